@@ -1,0 +1,153 @@
+#include "app/cli.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <sstream>
+
+#include "app/build_info.h"
+
+namespace rt {
+namespace {
+
+template <typename Enum, std::size_t N>
+std::optional<Enum> enumByName(const std::array<std::string_view, N>& names, std::string_view name) {
+  const auto it = std::ranges::find(names, name);
+  if (it == names.end()) return std::nullopt;
+  return static_cast<Enum>(it - names.begin());
+}
+
+template <std::size_t N>
+std::string joinNames(const std::array<std::string_view, N>& names, std::string_view separator) {
+  std::string joined;
+  for (auto n : names) joined += (joined.empty() ? "" : std::string(separator)) + std::string(n);
+  return joined;
+}
+
+EarlyExitSet parseEarlyExits(const std::string& text) {
+  if (text == "none") return EarlyExitSet();
+  if (text == "all") return EarlyExitSet::all();
+  EarlyExitSet set;
+  std::stringstream list(text);
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    const auto exit = enumByName<EarlyExit>(schema::kEarlyExitNames, item);
+    if (!exit) {
+      throw CLI::ValidationError("--early-exit", "unknown early exit '" + item + "' (none, all, or a list of " +
+                                                     joinNames(schema::kEarlyExitNames, ",") + ")");
+    }
+    set.add(*exit);
+  }
+  return set;
+}
+
+SaveFrameRequest parseSaveFrame(const std::string& text) {
+  const auto colon = text.find(':');
+  SaveFrameRequest request;
+  const char* end = text.data() + (colon == std::string::npos ? 0 : colon);
+  const auto [ptr, ec] = std::from_chars(text.data(), end, request.frame);
+  if (colon == std::string::npos || colon == 0 || ec != std::errc() || ptr != end || request.frame < 0 ||
+      colon + 1 == text.size()) {
+    throw CLI::ValidationError("--save-frame", "expected K:FILE.png with K >= 0, got '" + text + "'");
+  }
+  request.file = text.substr(colon + 1);
+  return request;
+}
+
+void requireExistingDirectory(const std::filesystem::path& file, const std::string& option) {
+  const auto dir = file.parent_path();
+  if (!dir.empty() && !std::filesystem::is_directory(dir)) {
+    throw CLI::ValidationError(option, "directory '" + dir.string() + "' does not exist");
+  }
+}
+
+}  // namespace
+
+std::string versionText() {
+  const BuildInfo& b = buildInfo();
+  std::ostringstream out;
+  out << "raytracer " << b.version << " (commit " << b.gitCommit << (b.gitDirty ? ", dirty" : "") << ", "
+      << b.buildType << ", " << b.compiler << ")\n";
+  return out.str();
+}
+
+std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* argv) {
+  RunConfig config;
+  config.commandLine.assign(argv, argv + argc);
+
+  CLI::App app("Ray tracer of sphere scenes with interchangeable renderers; times every frame.", "raytracer");
+  app.option_defaults()->always_capture_default();
+
+  std::array<bool, schema::kRendererKindNames.size()> rendererFlags{};
+  for (std::size_t i = 0; i < rendererFlags.size(); ++i) {
+    app.add_flag(std::string(schema::kRendererFlags[i]), rendererFlags[i],
+                 "renderer " + std::string(schema::kRendererKindNames[i]));
+  }
+  std::string scene = config.scenePath.string();
+  app.add_option("scene", scene, "scene file (JSON)")->capture_default_str();
+  app.add_option("--width", config.extent.width, "image width in pixels")->check(CLI::Range(1, 16384));
+  app.add_option("--height", config.extent.height, "image height in pixels")->check(CLI::Range(1, 16384));
+  app.add_option("--frames", config.measuredFrames, "measured frames")->check(CLI::Range(1, 1000000));
+  app.add_option("--warmup", config.warmupFrames, "warm-up frames before the measured ones")
+      ->check(CLI::Range(0, 1000000));
+  std::string algorithm, earlyExit, stage;
+  auto* algorithmOpt = app.add_option("--algorithm", algorithm, "single-pass|two-pass")
+                           ->check(CLI::IsMember(std::vector<std::string>(schema::kAlgorithmNames.begin(),
+                                                                          schema::kAlgorithmNames.end())));
+  auto* exitOpt = app.add_option("--early-exit", earlyExit,
+                                 "none|all|comma list of " + joinNames(schema::kEarlyExitNames, ","));
+  auto* stageOpt = app.add_option("--stage", stage, "the thesis' stages: original|single-pass|optimized (default)")
+                       ->check(CLI::IsMember(std::vector<std::string>(schema::kStageNames.begin(),
+                                                                      schema::kStageNames.end())));
+  stageOpt->excludes(algorithmOpt)->excludes(exitOpt);
+  std::string csv, meta;
+  auto* csvOpt = app.add_option("--csv", csv, "write one row per frame to this CSV file");
+  auto* metaOpt = app.add_option("--meta", meta, "write the run's metadata here (default: CSV path .meta.json)");
+  std::vector<std::string> saveFrames;
+  app.add_option("--save-frame", saveFrames, "K:FILE.png: save animation frame K (0 = first warm-up frame)");
+  app.add_flag("--quiet,-q", config.quiet, "print nothing but errors");
+  bool version = false;
+  app.add_flag("--version", version, "print the version and exit");
+
+  try {
+    app.parse(argc, argv);
+    if (version) return CliExit{0, versionText(), ""};
+
+    const auto chosen = std::ranges::count(rendererFlags, true);
+    if (chosen > 1) throw CLI::ValidationError("renderer", "choose one of the renderer flags");
+    if (chosen == 1) config.renderer = static_cast<RendererKind>(std::ranges::find(rendererFlags, true) - rendererFlags.begin());
+    config.scenePath = scene;
+
+    config.options = optionsForStage(Stage::optimized);
+    if (!stage.empty()) config.options = optionsForStage(*enumByName<Stage>(schema::kStageNames, stage));
+    if (!algorithm.empty()) config.options.algorithm = *enumByName<Algorithm>(schema::kAlgorithmNames, algorithm);
+    if (!earlyExit.empty()) config.options.earlyExits = parseEarlyExits(earlyExit);
+
+    if (*csvOpt) {
+      config.csvPath = csv;
+      requireExistingDirectory(csv, "--csv");
+    }
+    if (*metaOpt) {
+      config.metaPath = meta;
+      requireExistingDirectory(meta, "--meta");
+    }
+    for (const auto& text : saveFrames) {
+      SaveFrameRequest request = parseSaveFrame(text);
+      if (request.frame >= config.totalFrames()) {
+        throw CLI::ValidationError("--save-frame", "frame " + std::to_string(request.frame) +
+                                                       " is past the last frame (" +
+                                                       std::to_string(config.totalFrames() - 1) + ")");
+      }
+      requireExistingDirectory(request.file, "--save-frame");
+      config.saveFrames.push_back(std::move(request));
+    }
+  } catch (const CLI::CallForHelp&) {
+    return CliExit{0, app.help(), ""};
+  } catch (const CLI::ParseError& e) {
+    return CliExit{kExitBadInput, "", std::string("raytracer: ") + e.what() + "\n\n" + app.help()};
+  }
+  return config;
+}
+
+}  // namespace rt

@@ -1,0 +1,23 @@
+#pragma once
+#include <string>
+#include <variant>
+
+#include "app/run_config.h"
+
+namespace rt {
+
+// What the command line asks for: a run, or an answer printed and an exit code.
+struct CliExit {
+  int code = 0;
+  std::string output;   // for stdout (help, version)
+  std::string error;    // for stderr
+};
+
+inline constexpr int kExitBadInput = 2;
+
+std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* argv);
+
+// "--version" text: version, commit, build type, compiler.
+std::string versionText();
+
+}  // namespace rt

@@ -1,0 +1,53 @@
+#include "app/frame_loop.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "scene/camera.h"
+
+namespace rt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsBetween(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config) {
+  renderer.prepare(scene, config.extent, config.options);
+  Image presented(config.extent);
+  FrameLoopResult result;
+  result.savedFrames.assign(config.saveFrames.size(), Image(config.extent));
+  FrameRecorder recorder(static_cast<std::size_t>(config.totalFrames()));
+
+  try {
+    for (long long k = 0; k < config.totalFrames(); ++k) {
+      const auto t0 = Clock::now();
+      const CameraFrame camera = cameraAtFrame(scene.camera, k);
+      const auto t1 = Clock::now();
+      renderer.render(camera);
+      const auto t2 = Clock::now();
+      renderer.present(presented);
+      const auto t3 = Clock::now();
+
+      for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
+        if (config.saveFrames[i].frame == k) std::ranges::copy(presented.pixels(), result.savedFrames[i].pixels().begin());
+      }
+      recorder.record({.frame = k,
+                       .warmup = k < config.warmupFrames,
+                       .updateMs = millisecondsBetween(t0, t1),
+                       .renderMs = millisecondsBetween(t1, t2),
+                       .presentMs = millisecondsBetween(t2, t3),
+                       .gpuMs = std::nullopt});
+    }
+  } catch (...) {
+    result.failure = std::current_exception();
+  }
+  result.records.assign(recorder.records().begin(), recorder.records().end());
+  return result;
+}
+
+}  // namespace rt

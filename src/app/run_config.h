@@ -1,0 +1,38 @@
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "render/render_options.h"
+
+namespace rt {
+
+// --save-frame K:FILE: frame K (counted from the first warm-up frame) to a PNG.
+struct SaveFrameRequest {
+  long long frame = 0;
+  std::filesystem::path file;
+};
+
+// Everything one run of the binary was asked to do.
+struct RunConfig {
+  RendererKind renderer = RendererKind::sequential;
+  std::filesystem::path scenePath = "scenes/default.json";
+  Extent extent{800, 600};
+  int warmupFrames = 3;
+  int measuredFrames = 20;
+  RenderOptions options;  // default: stage "optimized"
+  std::optional<std::filesystem::path> csvPath;
+  std::optional<std::filesystem::path> metaPath;
+  std::vector<SaveFrameRequest> saveFrames;
+  bool quiet = false;
+  std::vector<std::string> commandLine;
+
+  [[nodiscard]] long long totalFrames() const { return static_cast<long long>(warmupFrames) + measuredFrames; }
+};
+
+// Where the metadata sidecar goes: --meta, else beside the CSV as NAME.meta.json.
+std::optional<std::filesystem::path> metadataPathFor(const RunConfig& config);
+
+}  // namespace rt

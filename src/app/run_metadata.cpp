@@ -1,0 +1,139 @@
+#include "app/run_metadata.h"
+
+#include <sys/utsname.h>
+
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "app/build_info.h"
+#include "core/sha256.h"
+
+namespace rt {
+namespace {
+
+using schema::RunMetadataKey;
+
+std::string firstValueOf(const std::filesystem::path& file, std::string_view key, char separator) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(key, 0) != 0) continue;
+    const auto sep = line.find(separator);
+    if (sep == std::string::npos) continue;
+    std::string value = line.substr(sep + 1);
+    const auto first = value.find_first_not_of(" \t\"");
+    const auto last = value.find_last_not_of(" \t\"");
+    return first == std::string::npos ? "" : value.substr(first, last - first + 1);
+  }
+  return "";
+}
+
+nlohmann::json hostInfo() {
+  std::string cpu = firstValueOf("/proc/cpuinfo", "model name", ':');
+  if (cpu.empty()) cpu = "unknown";
+  std::string os = firstValueOf("/etc/os-release", "PRETTY_NAME", '=');
+  utsname u{};
+  std::string kernel = "unknown";
+  if (::uname(&u) == 0) {
+    kernel = std::string(u.sysname) + " " + u.release + " " + u.machine;
+    if (os.empty()) os = u.sysname;
+  }
+  return {{"cpu_model", cpu},
+          {"logical_cores", std::thread::hardware_concurrency()},
+          {"os", os},
+          {"kernel", kernel}};
+}
+
+nlohmann::json libraryVersions() {
+  nlohmann::json libs = nlohmann::json::object();
+  std::stringstream list{std::string(buildInfo().libraryVersions)};
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    const auto eq = item.find('=');
+    if (eq != std::string::npos) libs[item.substr(0, eq)] = item.substr(eq + 1);
+  }
+  return libs;
+}
+
+nlohmann::json buildJson() {
+  const BuildInfo& b = buildInfo();
+  return {{"version", b.version},         {"git_commit", b.gitCommit}, {"git_dirty", b.gitDirty},
+          {"build_type", b.buildType},    {"compiler", b.compiler},    {"compiler_flags", b.compilerFlags}};
+}
+
+nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
+  return {{"renderer", nameOf(id.renderer.kind)},
+          {"threads", id.renderer.threads},
+          {"lanes", id.renderer.lanes},
+          {"simd_target", id.renderer.simdTarget},
+          {"algorithm", nameOf(id.options.algorithm)},
+          {"early_exit", id.options.earlyExits.toString()},
+          {"width", id.extent.width},
+          {"height", id.extent.height},
+          {"warmup_frames", config.warmupFrames},
+          {"measured_frames", config.measuredFrames}};
+}
+
+nlohmann::json outputsJson(const RunConfig& config) {
+  nlohmann::json frames = nlohmann::json::array();
+  for (const auto& s : config.saveFrames) frames.push_back({{"frame", s.frame}, {"file", s.file.string()}});
+  return {{"csv", config.csvPath ? nlohmann::json(config.csvPath->string()) : nlohmann::json(nullptr)},
+          {"frames", frames}};
+}
+
+}  // namespace
+
+std::string formatRfc3339(std::chrono::system_clock::time_point t) {
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count() % 1000;
+  const std::time_t seconds = std::chrono::system_clock::to_time_t(t);
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", utc.tm_year + 1900, utc.tm_mon + 1,
+                utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, static_cast<int>(ms));
+  return buffer;
+}
+
+std::string makeRunId(std::chrono::system_clock::time_point startedAt) {
+  const std::time_t seconds = std::chrono::system_clock::to_time_t(startedAt);
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char stamp[24];
+  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
+  std::random_device entropy;
+  char suffix[8];
+  std::snprintf(suffix, sizeof suffix, "%06x", entropy() & 0xffffffu);
+  return std::string(stamp) + "-" + suffix;
+}
+
+nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& identity, const Scene& scene,
+                               const RunTimes& times) {
+  nlohmann::json meta = nlohmann::json::object();
+  for (std::size_t i = 0; i < schema::kRunMetadataKeyNames.size(); ++i) {
+    const auto key = static_cast<RunMetadataKey>(i);
+    nlohmann::json& value = meta[std::string(schema::kRunMetadataKeyNames[i])];
+    switch (key) {
+      case RunMetadataKey::schema_version: value = schema::kVersion; break;
+      case RunMetadataKey::run_id: value = identity.runId; break;
+      case RunMetadataKey::command_line: value = config.commandLine; break;
+      case RunMetadataKey::scene:
+        value = {{"name", scene.name},
+                 {"path", config.scenePath.string()},
+                 {"sha256", sha256HexOfFile(config.scenePath)},
+                 {"spheres", scene.spheres.size()}};
+        break;
+      case RunMetadataKey::config: value = configJson(config, identity); break;
+      case RunMetadataKey::build: value = buildJson(); break;
+      case RunMetadataKey::host: value = hostInfo(); break;
+      case RunMetadataKey::libraries: value = libraryVersions(); break;
+      case RunMetadataKey::started_at: value = formatRfc3339(times.startedAt); break;
+      case RunMetadataKey::finished_at: value = formatRfc3339(times.finishedAt); break;
+      case RunMetadataKey::outputs: value = outputsJson(config); break;
+    }
+  }
+  return meta;
+}
+
+}  // namespace rt

@@ -1,0 +1,26 @@
+#pragma once
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "app/frame_recorder.h"
+#include "app/run_config.h"
+#include "scene/scene.h"
+
+namespace rt {
+
+struct RunTimes {
+  std::chrono::system_clock::time_point startedAt;
+  std::chrono::system_clock::time_point finishedAt;
+};
+
+// A fresh run identifier: UTC start time plus a random suffix.
+std::string makeRunId(std::chrono::system_clock::time_point startedAt);
+// RFC 3339, UTC, with milliseconds: 2026-11-22T02:14:46.123Z
+std::string formatRfc3339(std::chrono::system_clock::time_point t);
+
+// The JSON sidecar: every key of the schema's run_metadata list.
+nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& identity, const Scene& scene,
+                               const RunTimes& times);
+
+}  // namespace rt

@@ -1,0 +1,76 @@
+#include "core/image.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "core/atomic_file.h"
+
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+
+namespace rt {
+namespace {
+// Spec section 8: the agreement thresholds between two renderers.
+constexpr int kChannelTolerance = 2;
+constexpr double kMinFractionWithinTolerance = 0.995;
+constexpr double kMinPsnrDb = 40.0;
+}  // namespace
+
+void writePng(const Image& image, const std::filesystem::path& path) {
+  const Extent e = image.extent();
+  AtomicFile file(path);
+  const int ok = stbi_write_png(file.temporaryPath().c_str(), e.width, e.height, 4,
+                                image.pixels().data(), e.width * 4);
+  if (ok == 0) throw std::runtime_error(path.string() + ": cannot write PNG");
+  file.commit();
+}
+
+Image readPng(const std::filesystem::path& path) {
+  int w = 0, h = 0, channels = 0;
+  std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> data(
+      stbi_load(path.c_str(), &w, &h, &channels, 4), &stbi_image_free);
+  if (!data) {
+    throw std::runtime_error(path.string() + ": cannot read PNG: " + stbi_failure_reason());
+  }
+  Image image(Extent{w, h});
+  std::copy_n(reinterpret_cast<const Rgba8*>(data.get()), image.pixels().size(), image.pixels().begin());
+  return image;
+}
+
+bool ImageAgreement::agrees() const {
+  return fractionWithinTolerance >= kMinFractionWithinTolerance && psnrDb >= kMinPsnrDb;
+}
+
+ImageAgreement compareImages(const Image& a, const Image& b) {
+  if (a.extent() != b.extent()) throw std::invalid_argument("compareImages: extents differ");
+  const auto pa = a.pixels();
+  const auto pb = b.pixels();
+  std::size_t within = 0;
+  double squaredError = 0.0;
+  int maxDiff = 0;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    // Alpha is always opaque; only colour channels are compared.
+    const int d[3] = {std::abs(pa[i].r - pb[i].r), std::abs(pa[i].g - pb[i].g), std::abs(pa[i].b - pb[i].b)};
+    const int m = std::max({d[0], d[1], d[2]});
+    maxDiff = std::max(maxDiff, m);
+    within += m <= kChannelTolerance ? 1 : 0;
+    for (int c : d) squaredError += static_cast<double>(c) * c;
+  }
+  ImageAgreement result;
+  result.maxChannelDifference = maxDiff;
+  result.fractionWithinTolerance = pa.empty() ? 1.0 : static_cast<double>(within) / static_cast<double>(pa.size());
+  const double mse = pa.empty() ? 0.0 : squaredError / (3.0 * static_cast<double>(pa.size()));
+  result.psnrDb = mse == 0.0 ? std::numeric_limits<double>::infinity()
+                             : 10.0 * std::log10(255.0 * 255.0 / mse);
+  return result;
+}
+
+}  // namespace rt

@@ -1,0 +1,28 @@
+#pragma once
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+
+namespace rt {
+
+// SHA-256 (FIPS 180-4), used to fingerprint scene files in run metadata.
+class Sha256 {
+ public:
+  Sha256();
+  void update(std::span<const std::uint8_t> bytes);
+  std::array<std::uint8_t, 32> finish();
+
+ private:
+  void compressBlock(const std::uint8_t* block);
+  std::array<std::uint32_t, 8> state_;
+  std::array<std::uint8_t, 64> buffer_{};
+  std::size_t buffered_ = 0;
+  std::uint64_t totalBytes_ = 0;
+};
+
+std::string sha256Hex(std::span<const std::uint8_t> bytes);
+std::string sha256HexOfFile(const std::filesystem::path& path);
+
+}  // namespace rt

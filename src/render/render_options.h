@@ -1,0 +1,51 @@
+#pragma once
+#include <string>
+#include <string_view>
+
+#include "rt_schema.h"
+
+namespace rt {
+
+using schema::Algorithm;
+using schema::EarlyExit;
+using schema::RendererKind;
+using schema::Stage;
+
+// A set of early exits (spec section 6) as a bit mask over EarlyExit.
+class EarlyExitSet {
+ public:
+  constexpr EarlyExitSet() = default;
+  constexpr explicit EarlyExitSet(unsigned mask) : mask_(mask) {}
+  static constexpr EarlyExitSet all() { return EarlyExitSet((1u << schema::kEarlyExitNames.size()) - 1u); }
+
+  [[nodiscard]] constexpr bool has(EarlyExit e) const { return (mask_ >> static_cast<int>(e)) & 1u; }
+  constexpr void add(EarlyExit e) { mask_ |= 1u << static_cast<int>(e); }
+  [[nodiscard]] constexpr unsigned mask() const { return mask_; }
+  friend constexpr bool operator==(EarlyExitSet, EarlyExitSet) = default;
+
+  // "none" or the names joined by '+', in schema order ("bounce+sphere").
+  [[nodiscard]] std::string toString() const;
+
+ private:
+  unsigned mask_ = 0;
+};
+
+struct RenderOptions {
+  Algorithm algorithm = Algorithm::single_pass;
+  EarlyExitSet earlyExits = EarlyExitSet::all();
+};
+
+RenderOptions optionsForStage(Stage stage);
+
+template <typename Enum>
+constexpr std::string_view nameOf(Enum value);
+template <>
+constexpr std::string_view nameOf(RendererKind v) { return schema::kRendererKindNames[static_cast<int>(v)]; }
+template <>
+constexpr std::string_view nameOf(Algorithm v) { return schema::kAlgorithmNames[static_cast<int>(v)]; }
+template <>
+constexpr std::string_view nameOf(EarlyExit v) { return schema::kEarlyExitNames[static_cast<int>(v)]; }
+template <>
+constexpr std::string_view nameOf(Stage v) { return schema::kStageNames[static_cast<int>(v)]; }
+
+}  // namespace rt

@@ -1,0 +1,39 @@
+#pragma once
+#include <string>
+
+#include "core/image.h"
+#include "render/render_options.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+
+namespace rt {
+
+// How a renderer runs, as recorded in every CSV row and the metadata.
+struct RendererInfo {
+  RendererKind kind = RendererKind::sequential;
+  int threads = 1;
+  int lanes = 1;
+  std::string simdTarget;  // empty where no SIMD is used
+};
+
+// One of the thesis' interchangeable renderers. The interface is virtual
+// per frame only; the per-ray work behind render() sees flat arrays.
+class Renderer {
+ public:
+  virtual ~Renderer() = default;
+  Renderer() = default;
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  [[nodiscard]] virtual RendererInfo info() const = 0;
+  // Before the frame loop: takes the scene and sizes every working buffer,
+  // so that render() and present() never allocate.
+  virtual void prepare(const Scene& scene, Extent extent, const RenderOptions& options) = 0;
+  // The Render phase: one frame seen from `camera`.
+  virtual void render(const CameraFrame& camera) = 0;
+  // The Present phase: hand the frame on to `target` (the windowless
+  // stand-in for the swapchain image), sized like prepare()'s extent.
+  virtual void present(Image& target) = 0;
+};
+
+}  // namespace rt

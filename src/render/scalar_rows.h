@@ -1,0 +1,45 @@
+#pragma once
+// Row level of the scalar renderers (pixel -> row -> frame): the kernel's
+// variant is chosen once per frame, so no branch on the options runs per ray.
+#include <span>
+#include <stdexcept>
+
+#include "render/render_options.h"
+#include "render/scalar_kernel.h"
+#include "scene/camera.h"
+
+namespace rt {
+
+template <typename Real, Algorithm kAlgorithm, bool kBounceExit>
+void renderScalarRow(const kernel::ShadingInputs<Real>& in, const CameraFrame& camera, Extent extent, int y,
+                     std::span<Rgba8> row) {
+  const kernel::Vec3<Real> origin(camera.position);
+  [[maybe_unused]] std::array<kernel::PathSegment<Real>, kMaxDepthLimit> segments;
+  for (int x = 0; x < extent.width; ++x) {
+    const kernel::Ray<Real> ray{origin, glm::normalize(primaryRayDirection<Real>(camera, extent, x, y))};
+    kernel::Vec3<Real> color;
+    if constexpr (kAlgorithm == Algorithm::two_pass) {
+      color = kernel::traceTwoPass<Real, kBounceExit>(in, ray, segments);
+    } else {
+      color = kernel::traceSinglePass<Real, kBounceExit>(in, ray);
+    }
+    row[static_cast<std::size_t>(x)] = kernel::toRgba8(color);
+  }
+}
+
+// Calls visit.template operator()<Algorithm, bool>() with the variant the options select.
+template <typename Visitor>
+void visitScalarVariant(const RenderOptions& options, Visitor&& visit) {
+  const bool bounce = options.earlyExits.has(EarlyExit::bounce);
+  switch (options.algorithm) {
+    case Algorithm::single_pass:
+      return bounce ? visit.template operator()<Algorithm::single_pass, true>()
+                    : visit.template operator()<Algorithm::single_pass, false>();
+    case Algorithm::two_pass:
+      return bounce ? visit.template operator()<Algorithm::two_pass, true>()
+                    : visit.template operator()<Algorithm::two_pass, false>();
+  }
+  throw std::logic_error("unknown algorithm");
+}
+
+}  // namespace rt
