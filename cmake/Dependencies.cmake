@@ -25,11 +25,28 @@ macro(rt_require_pkg_config prefix module debian_package)
   endif()
 endmacro()
 
+# A program used at build time (found once, cached in `var`).
+macro(rt_require_program var program debian_package)
+  find_program(${var} ${program})
+  if(NOT ${var})
+    message(FATAL_ERROR
+      "Missing program '${program}'. On Debian/Ubuntu: apt-get install ${debian_package}"
+      " (or run scripts/setup-debian as root).")
+  endif()
+endmacro()
+
 rt_require_package(Threads libc6-dev)
 rt_require_package(glm libglm-dev)
 rt_require_package(nlohmann_json nlohmann-json3-dev)
 rt_require_package(CLI11 libcli11-dev)
 rt_require_pkg_config(STB stb libstb-dev)
+# Vulkan: only the headers are used at build time; the loader is opened at
+# run time (src/gpu/context.cpp), so the binary starts without it.
+rt_require_package(Vulkan libvulkan-dev)
+rt_require_program(RT_GLSLANG_VALIDATOR glslangValidator glslang-tools)
+execute_process(COMMAND "${RT_GLSLANG_VALIDATOR}" --version OUTPUT_VARIABLE _glslang_version_text ERROR_QUIET)
+string(REGEX MATCH "Glslang Version: [0-9]+:([0-9.]+)" _glslang_match "${_glslang_version_text}")
+set(RT_GLSLANG_VERSION "${CMAKE_MATCH_1}")
 
 if(RT_BUILD_TESTS)
   rt_require_package(GTest libgtest-dev)
@@ -40,4 +57,6 @@ set(RT_LIBRARY_VERSIONS
   "glm=${glm_VERSION}"
   "nlohmann_json=${nlohmann_json_VERSION}"
   "CLI11=${CLI11_VERSION}"
-  "stb=${STB_VERSION}")
+  "stb=${STB_VERSION}"
+  "vulkan_headers=${Vulkan_VERSION}"
+  "glslang=${RT_GLSLANG_VERSION}")

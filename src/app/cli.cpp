@@ -106,6 +106,16 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   auto* metaOpt = app.add_option("--meta", meta, "write the run's metadata here (default: CSV path .meta.json)");
   std::vector<std::string> saveFrames;
   app.add_option("--save-frame", saveFrames, "K:FILE.png: save animation frame K (0 = first warm-up frame)");
+  std::string present;
+  app.add_option("--present", present,
+                 "none|upload: where Present puts each frame (default: upload into the Vulkan device's present "
+                 "image when a device opens, else none)")
+      ->check(CLI::IsMember(std::vector<std::string>(schema::kPresentModeNames.begin(), schema::kPresentModeNames.end())));
+  app.add_option("--device", config.device,
+                 "Vulkan device: INDEX or NAME-SUBSTRING (default: first discrete GPU, else integrated, else CPU)");
+  app.add_flag("--list-devices", config.listDevices, "list the Vulkan devices and exit");
+  app.add_flag("--vk-validation", config.vkValidation,
+               "enable VK_LAYER_KHRONOS_validation; any warning or error fails the run (exit 1)");
   app.add_flag("--quiet,-q", config.quiet, "print nothing but errors");
   bool version = false;
   app.add_flag("--version", version, "print the version and exit");
@@ -123,6 +133,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     if (!stage.empty()) config.options = optionsForStage(*enumByName<Stage>(schema::kStageNames, stage));
     if (!algorithm.empty()) config.options.algorithm = *enumByName<Algorithm>(schema::kAlgorithmNames, algorithm);
     if (!earlyExit.empty()) config.options.earlyExits = parseEarlyExits(earlyExit);
+    if (!present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, present);
 
     if (*csvOpt) {
       config.csvPath = csv;

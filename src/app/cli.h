@@ -14,6 +14,8 @@ struct CliExit {
 };
 
 inline constexpr int kExitBadInput = 2;
+// No Vulkan loader or device where the run needs one (--gpu, --present upload, --list-devices).
+inline constexpr int kExitNoDevice = 3;
 
 std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* argv);
 

@@ -1,6 +1,5 @@
 #include "app/frame_loop.h"
 
-#include <algorithm>
 #include <chrono>
 
 #include "scene/camera.h"
@@ -18,7 +17,6 @@ double millisecondsBetween(Clock::time_point a, Clock::time_point b) {
 
 FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config) {
   renderer.prepare(scene, config.extent, config.options);
-  Image presented(config.extent);
   FrameLoopResult result;
   result.savedFrames.assign(config.saveFrames.size(), Image(config.extent));
   FrameRecorder recorder(static_cast<std::size_t>(config.totalFrames()));
@@ -30,18 +28,19 @@ FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunCo
       const auto t1 = Clock::now();
       renderer.render(camera);
       const auto t2 = Clock::now();
-      renderer.present(presented);
+      renderer.present();
       const auto t3 = Clock::now();
 
-      for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
-        if (config.saveFrames[i].frame == k) std::ranges::copy(presented.pixels(), result.savedFrames[i].pixels().begin());
-      }
       recorder.record({.frame = k,
                        .warmup = k < config.warmupFrames,
                        .updateMs = millisecondsBetween(t0, t1),
                        .renderMs = millisecondsBetween(t1, t2),
                        .presentMs = millisecondsBetween(t2, t3),
-                       .gpuMs = std::nullopt});
+                       .gpuMs = renderer.lastGpuMs()});
+      // Only saved frames come back to the host, after the timed phases.
+      for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
+        if (config.saveFrames[i].frame == k) renderer.readPresented(result.savedFrames[i]);
+      }
     }
   } catch (...) {
     result.failure = std::current_exception();

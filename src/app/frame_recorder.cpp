@@ -41,6 +41,8 @@ void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id,
     case FrameCsvColumn::early_exit: return appendText(out, id.options.earlyExits.toString());
     case FrameCsvColumn::width: return appendText(out, std::to_string(id.extent.width));
     case FrameCsvColumn::height: return appendText(out, std::to_string(id.extent.height));
+    case FrameCsvColumn::present: return appendText(out, nameOf(id.present));
+    case FrameCsvColumn::device: return appendText(out, id.device ? id.device->name : "");
     case FrameCsvColumn::frame: return appendText(out, std::to_string(r.frame));
     case FrameCsvColumn::warmup: return appendText(out, r.warmup ? "1" : "0");
     case FrameCsvColumn::update_ms: return appendNumber(out, r.updateMs);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "gpu/device_info.h"
 #include "render/renderer.h"
 
 namespace rt {
@@ -26,6 +27,10 @@ struct RunIdentity {
   RendererInfo renderer;
   RenderOptions options;
   Extent extent;
+  PresentMode present = PresentMode::none;
+  std::string presentReason{};            // why this present mode (metadata)
+  std::optional<gpu::DeviceInfo> device{};  // the Vulkan device used, if any
+  bool validation = false;                // Vulkan validation layer on
 };
 
 // Holds every frame's record in storage sized before the frame loop, so

@@ -6,9 +6,11 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/device_setup.h"
 #include "app/frame_loop.h"
 #include "app/run_metadata.h"
 #include "core/atomic_file.h"
+#include "gpu/context.h"
 #include "render/renderer_factory.h"
 #include "scene/scene_loader.h"
 
@@ -24,12 +26,13 @@ double median(std::vector<double> values) {
 }
 
 void printSummary(const rt::RunIdentity& id, std::span<const rt::FrameRecord> records) {
-  std::vector<double> render, update, present;
+  std::vector<double> render, update, present, gpu;
   for (const auto& r : records) {
     if (r.warmup) continue;
     render.push_back(r.renderMs);
     update.push_back(r.updateMs);
     present.push_back(r.presentMs);
+    if (r.gpuMs) gpu.push_back(*r.gpuMs);
   }
   const double renderMedian = median(render);
   const double mrays = renderMedian > 0.0 ? static_cast<double>(id.extent.pixelCount()) / (renderMedian * 1e3) : 0.0;
@@ -38,7 +41,11 @@ void printSummary(const rt::RunIdentity& id, std::span<const rt::FrameRecord> re
               id.options.earlyExits.toString().c_str(), render.size());
   std::printf("  render_ms  median %.3f  min %.3f  max %.3f   (%.2f Mprimary-rays/s)\n", renderMedian,
               *std::ranges::min_element(render), *std::ranges::max_element(render), mrays);
-  std::printf("  update_ms  median %.4f   present_ms median %.3f\n", median(update), median(present));
+  std::printf("  update_ms  median %.4f   present_ms median %.3f  (present %s)\n", median(update), median(present),
+              std::string(rt::nameOf(id.present)).c_str());
+  if (!gpu.empty()) std::printf("  gpu_ms     median %.3f  min %.3f  max %.3f\n", median(gpu),
+                                *std::ranges::min_element(gpu), *std::ranges::max_element(gpu));
+  if (id.device) std::printf("  device     %s (%s)\n", id.device->name.c_str(), id.device->driverInfo.c_str());
 }
 
 void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, const rt::Scene& scene,
@@ -53,13 +60,44 @@ void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, 
   }
 }
 
-int run(const rt::RunConfig& config) {
-  const rt::Scene scene = rt::loadScene(config.scenePath);
-  auto renderer = rt::makeRenderer(config.renderer);
+// --list-devices: every device the loader reports, the default choice marked.
+int listDevices(const rt::RunConfig& config) {
+  const auto devices = rt::gpu::listDevices({.validation = config.vkValidation});
+  std::optional<std::size_t> chosen;
+  try {
+    chosen = rt::gpu::chooseDevice(devices, config.device);
+  } catch (const rt::gpu::DeviceUnavailable&) {
+    if (devices.empty()) throw;  // nothing to list: the "no device" exit
+  }
+  std::cout << "Vulkan devices (index, name, type, driver, API version; * = the device a run uses):\n"
+            << rt::gpu::formatDeviceList(devices, chosen);
+  return 0;
+}
+
+// With --vk-validation, any message the layer reported fails the run.
+int validationVerdict(const rt::gpu::ValidationCounter* validation) {
+  if (!validation || validation->counts().total() == 0) return 0;
+  const rt::gpu::ValidationCounts counts = validation->counts();
+  std::cerr << "raytracer: Vulkan validation reported " << counts.errors << " error(s) and " << counts.warnings
+            << " warning(s)\n";
+  return kExitRuntimeError;
+}
+
+// Opens the device, runs the frame loop, writes the outputs. Returns the
+// validation counter of the device used (null without --vk-validation).
+std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunConfig& config, const rt::Scene& scene) {
+  const rt::DeviceSetup setup = rt::setUpDevice(config, std::cerr);
+  auto renderer = rt::makeRenderer(config.renderer, setup.present);
 
   rt::RunTimes times{std::chrono::system_clock::now(), {}};
-  const rt::RunIdentity identity{rt::makeRunId(times.startedAt), scene.name, renderer->info(), config.options,
-                                 config.extent};
+  rt::RunIdentity identity{rt::makeRunId(times.startedAt), scene.name, renderer->info(), config.options,
+                           config.extent};
+  identity.present = setup.present.mode;
+  identity.presentReason = setup.presentReason;
+  if (setup.present.device) {
+    identity.device = setup.present.device->info();
+    identity.validation = setup.present.device->validationEnabled();
+  }
   const rt::FrameLoopResult result = rt::runFrameLoop(*renderer, scene, config);
   times.finishedAt = std::chrono::system_clock::now();
 
@@ -67,7 +105,14 @@ int run(const rt::RunConfig& config) {
   writeOutputs(config, identity, scene, result, times);
   if (result.failure) std::rethrow_exception(result.failure);
   if (!config.quiet) printSummary(identity, result.records);
-  return 0;
+  return setup.present.device ? setup.present.device->validationCounter() : nullptr;
+}  // the renderer and the device go here: the layer reports objects left alive
+
+int run(const rt::RunConfig& config) {
+  if (config.listDevices) return listDevices(config);
+  const rt::Scene scene = rt::loadScene(config.scenePath);
+  const auto validation = renderAndWrite(config, scene);
+  return validationVerdict(validation.get());
 }
 
 }  // namespace
@@ -87,6 +132,12 @@ int main(int argc, char** argv) {
   } catch (const rt::RendererUnavailable& e) {
     std::cerr << "raytracer: " << e.what() << "\n";
     return rt::kExitBadInput;
+  } catch (const rt::gpu::DeviceUnavailable& e) {
+    std::cerr << "raytracer: no Vulkan device: " << e.what() << "\n";
+    return rt::kExitNoDevice;
+  } catch (const rt::gpu::DeviceError& e) {
+    std::cerr << "raytracer: GPU error: " << e.what() << "\n";
+    return kExitRuntimeError;
   } catch (const std::exception& e) {
     std::cerr << "raytracer: error: " << e.what() << "\n";
     return kExitRuntimeError;

@@ -28,6 +28,11 @@ struct RunConfig {
   std::vector<SaveFrameRequest> saveFrames;
   bool quiet = false;
   std::vector<std::string> commandLine;
+  // Vulkan (issue 4).
+  std::optional<PresentMode> present;  // --present; nullopt: upload when a device opens, else none
+  std::string device;                  // --device INDEX|NAME-SUBSTRING; empty: the default choice
+  bool listDevices = false;            // --list-devices: print them and exit
+  bool vkValidation = false;           // --vk-validation: validation layer on, messages fail the run
 
   [[nodiscard]] long long totalFrames() const { return static_cast<long long>(warmupFrames) + measuredFrames; }
 };

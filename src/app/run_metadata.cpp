@@ -73,7 +73,27 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
           {"width", id.extent.width},
           {"height", id.extent.height},
           {"warmup_frames", config.warmupFrames},
-          {"measured_frames", config.measuredFrames}};
+          {"measured_frames", config.measuredFrames},
+          {"present", nameOf(id.present)},
+          {"present_reason", id.presentReason}};
+}
+
+nlohmann::json deviceJson(const RunIdentity& id) {
+  if (!id.device) return nullptr;
+  const gpu::DeviceInfo& d = *id.device;
+  return {{"index", d.index},
+          {"name", d.name},
+          {"type", gpu::nameOf(d.type)},
+          {"vendor_id", d.vendorId},
+          {"device_id", d.deviceId},
+          {"driver_name", d.driverName},
+          {"driver_info", d.driverInfo},
+          {"driver_version", d.driverVersion},
+          {"driver_version_raw", d.driverVersionRaw},
+          {"api_version", d.apiVersion},
+          {"timestamp_period_ns", d.timestampPeriodNs},
+          {"timestamp_valid_bits", d.timestampValidBits},
+          {"validation", id.validation}};
 }
 
 nlohmann::json outputsJson(const RunConfig& config) {
@@ -131,6 +151,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::started_at: value = formatRfc3339(times.startedAt); break;
       case RunMetadataKey::finished_at: value = formatRfc3339(times.finishedAt); break;
       case RunMetadataKey::outputs: value = outputsJson(config); break;
+      case RunMetadataKey::device: value = deviceJson(identity); break;
     }
   }
   return meta;

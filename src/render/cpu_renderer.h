@@ -1,14 +1,28 @@
 #pragma once
+#include <memory>
+
+#include "render/present_setup.h"
 #include "render/renderer.h"
 
 namespace rt {
+
+namespace gpu {
+class FrameUpload;
+}
 
 // The CPU renderers render into a working buffer in RAM, which Present then
 // hands on (the thesis' StagingData, copied to the swapchain image).
 class CPURenderer : public Renderer {
  public:
+  CPURenderer();
+  ~CPURenderer() override;
+  using Renderer::present;
+
+  // Before prepare(): where Present puts the frames (default: nowhere, `none`).
+  void setPresentSetup(PresentSetup setup);
   void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override;
-  void present(Image& target) override;
+  void present() override;
+  void readPresented(Image& target) override;
 
  protected:
   [[nodiscard]] const Scene& scene() const { return *scene_; }
@@ -20,6 +34,8 @@ class CPURenderer : public Renderer {
   const Scene* scene_ = nullptr;
   RenderOptions options_;
   Image frame_;
+  PresentSetup presentSetup_;
+  std::unique_ptr<gpu::FrameUpload> upload_;  // mode upload only
 };
 
 }  // namespace rt

@@ -8,6 +8,7 @@ namespace rt {
 
 using schema::Algorithm;
 using schema::EarlyExit;
+using schema::PresentMode;
 using schema::RendererKind;
 using schema::Stage;
 
@@ -47,5 +48,7 @@ template <>
 constexpr std::string_view nameOf(EarlyExit v) { return schema::kEarlyExitNames[static_cast<int>(v)]; }
 template <>
 constexpr std::string_view nameOf(Stage v) { return schema::kStageNames[static_cast<int>(v)]; }
+template <>
+constexpr std::string_view nameOf(PresentMode v) { return schema::kPresentModeNames[static_cast<int>(v)]; }
 
 }  // namespace rt

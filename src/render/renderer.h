@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <string>
 
 #include "core/image.h"
@@ -31,9 +32,23 @@ class Renderer {
   virtual void prepare(const Scene& scene, Extent extent, const RenderOptions& options) = 0;
   // The Render phase: one frame seen from `camera`.
   virtual void render(const CameraFrame& camera) = 0;
-  // The Present phase: hand the frame on to `target` (the windowless
-  // stand-in for the swapchain image), sized like prepare()'s extent.
-  virtual void present(Image& target) = 0;
+  // The Present phase: hand the frame on to the present image (the
+  // windowless stand-in for the swapchain image), as the renderer's
+  // PresentMode says. Nothing comes back to the host here.
+  virtual void present() = 0;
+  // The frame the last present() handed on, copied into `target` (sized
+  // like prepare()'s extent). Not part of any timed phase: the frame loop
+  // calls it only for frames that are saved, and tests for what they check.
+  virtual void readPresented(Image& target) = 0;
+  // Device time of the last render() in milliseconds (GPU timestamps);
+  // nullopt where the renderer does not measure one.
+  [[nodiscard]] virtual std::optional<double> lastGpuMs() const { return std::nullopt; }
+
+  // present() then readPresented(): one frame as the host sees it.
+  void present(Image& target) {
+    present();
+    readPresented(target);
+  }
 };
 
 }  // namespace rt

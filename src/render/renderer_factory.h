@@ -2,6 +2,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "render/present_setup.h"
 #include "render/renderer.h"
 
 namespace rt {
@@ -12,6 +13,7 @@ class RendererUnavailable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::unique_ptr<Renderer> makeRenderer(RendererKind kind);
+// `present` says where Present puts the frames; the GPU renderer needs its device.
+std::unique_ptr<Renderer> makeRenderer(RendererKind kind, const PresentSetup& present = {});
 
 }  // namespace rt

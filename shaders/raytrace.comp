@@ -1,0 +1,206 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The render model of render-model.md (sections 2-5 and 7) as a compute
+// shader, one invocation per pixel. It mirrors src/render/scalar_kernel.h
+// function by function, in the same operation order, so that the GPU image
+// agrees with the sequential renderer (spec section 8). Change both together.
+
+#include "gpu_interface.h"
+#include "model_constants.h"
+
+layout(local_size_x = RT_WORKGROUP_SIZE_X, local_size_y = RT_WORKGROUP_SIZE_Y) in;
+
+// Variant selection (the C++ kernel's template parameters) ===================
+layout(constant_id = RT_SPEC_TWO_PASS) const bool TWO_PASS = false;
+layout(constant_id = RT_SPEC_BOUNCE_EXIT) const bool BOUNCE_EXIT = true;
+// The scene's render.maxDepth: a specialization constant rather than a push
+// constant because it sizes the two-pass algorithm's stored arrays.
+layout(constant_id = RT_SPEC_MAX_DEPTH) const int MAX_DEPTH = 5;
+
+const float EPS = float(RT_HIT_EPSILON);
+
+// Inputs =====================================================================
+// Mirrored by rt::gpu::GPUSphere (src/gpu/gpu_layout.h): std430, 32 bytes,
+// {vec3 position; float radius; vec3 color; float pad} byte for byte. Read
+// as two vec4s: the intersection loop then fetches each sphere with one
+// 16-byte load per invocation instead of four scalar ones (lavapipe
+// gathers storage-buffer loads lane by lane: random100 1.25x faster).
+struct GPUSphere {
+  vec4 positionRadius;  // xyz: position, w: radius
+  vec4 colorPad;        // rgb: color, a: padding
+};
+
+layout(std430, set = 0, binding = RT_BINDING_SPHERES) readonly buffer Spheres {
+  GPUSphere spheres[];
+};
+
+layout(rgba8, set = 0, binding = RT_BINDING_OUTPUT) uniform writeonly image2D outputImage;
+
+// Mirrored by rt::gpu::FrameConstants: everything that may change per frame,
+// in exactly RT_PUSH_CONSTANT_BYTES bytes. Each vec3 shares its 16-byte slot
+// with a scalar.
+layout(push_constant, std430) uniform FrameConstants {
+  layout(offset = 0) vec3 cameraPosition;
+  layout(offset = 12) float tanHalfFov;
+  layout(offset = 16) vec3 cameraForward;
+  layout(offset = 28) int width;
+  layout(offset = 32) vec3 cameraRight;
+  layout(offset = 44) int height;
+  layout(offset = 48) vec3 cameraUp;
+  layout(offset = 60) uint sphereCount;
+  layout(offset = 64) vec3 toLight;  // -directionalLightDirection
+  layout(offset = 76) float reflectivity;
+  layout(offset = 80) vec3 lightColor;
+  layout(offset = 92) float shininess;
+  layout(offset = 96) vec3 ambientColor;
+  layout(offset = 108) float specularStrength;
+  layout(offset = 112) vec3 background;
+  layout(offset = 124) float unused;
+} pc;
+
+// Intersection (spec section 3) ==============================================
+struct Hit {
+  vec3 position;
+  vec3 normal;
+  int sphere;  // -1 for a miss
+};
+
+// Distance along the ray to one sphere (xyz: centre, w: radius), or a
+// value <= EPS for no hit, with the cancellation-free discriminant.
+float intersectSphere(vec3 origin, vec3 direction, vec4 sphere) {
+  vec3 oc = origin - sphere.xyz;
+  float b = dot(oc, direction);
+  vec3 f = oc - b * direction;
+  float r = sphere.w;
+  float disc = r * r - dot(f, f);
+  if (disc < 0.0) return -1.0;
+  float h = sqrt(disc);
+  float t = -b - h;
+  if (t <= EPS) t = -b + h;
+  return t;
+}
+
+// The nearest hit over all spheres; on an exact tie the lower index wins.
+Hit nearestHit(vec3 origin, vec3 direction) {
+  float best = 1.0 / 0.0;  // +infinity
+  int bestIndex = -1;
+  for (uint i = 0u; i < pc.sphereCount; ++i) {
+    float t = intersectSphere(origin, direction, spheres[i].positionRadius);
+    if (t > EPS && t < best) {
+      best = t;
+      bestIndex = int(i);
+    }
+  }
+  Hit hit;
+  hit.sphere = bestIndex;
+  hit.position = vec3(0.0);
+  hit.normal = vec3(0.0);
+  if (bestIndex >= 0) {
+    GPUSphere s = spheres[bestIndex];
+    hit.position = origin + best * direction;
+    hit.normal = (hit.position - s.positionRadius.xyz) / s.positionRadius.w;
+  }
+  return hit;
+}
+
+// Shading (spec section 4) ===================================================
+vec3 localColor(Hit hit, vec3 direction, vec3 sphereColor) {
+  vec3 n = hit.normal;
+  vec3 l = pc.toLight;
+  vec3 ambient = pc.ambientColor * sphereColor;
+  vec3 diffuse = max(dot(n, l), 0.0) * pc.lightColor * sphereColor;
+  vec3 rr = -l - 2.0 * dot(-l, n) * n;  // reflect(-l, n)
+  float highlight = pow(max(dot(rr, -direction), 0.0), pc.shininess);
+  return ambient + diffuse + pc.specularStrength * highlight * pc.lightColor;
+}
+
+// The bounce of spec section 5: offset origin, renormalised mirror direction.
+void reflectRay(inout vec3 origin, inout vec3 direction, Hit hit) {
+  vec3 d = direction;
+  vec3 n = hit.normal;
+  origin = hit.position + n * EPS;
+  direction = normalize(d - 2.0 * dot(d, n) * n);
+}
+
+// The two algorithms (spec section 5) ========================================
+vec3 traceSinglePass(vec3 origin, vec3 direction) {
+  vec3 color = vec3(0.0);
+  vec3 throughput = vec3(1.0);
+  for (int depth = 0; depth < MAX_DEPTH; ++depth) {
+    Hit hit = nearestHit(origin, direction);
+    if (hit.sphere < 0) {
+      color += throughput * pc.background;
+      if (BOUNCE_EXIT) break;
+      // Without the early exit the dead ray is traced again and adds nothing.
+      throughput = vec3(0.0);
+      continue;
+    }
+    vec3 sphereColor = spheres[hit.sphere].colorPad.rgb;
+    color += throughput * localColor(hit, direction, sphereColor);
+    throughput *= pc.reflectivity * sphereColor;
+    reflectRay(origin, direction, hit);
+  }
+  return color;
+}
+
+// One stored segment of the forward pass: what the backward pass reads.
+struct PathSegment {
+  vec3 direction;
+  Hit hit;
+  vec3 sphereColor;
+};
+
+vec3 traceTwoPass(vec3 origin, vec3 direction) {
+  PathSegment segments[MAX_DEPTH];
+  int count = 0;
+  for (; count < MAX_DEPTH; ++count) {
+    segments[count].direction = direction;
+    segments[count].hit = nearestHit(origin, direction);
+    segments[count].sphereColor = vec3(0.0);
+    if (segments[count].hit.sphere < 0) {
+      if (BOUNCE_EXIT) {
+        ++count;
+        break;
+      }
+      continue;  // a segment after a miss is a miss: the ray stays as it was
+    }
+    segments[count].sphereColor = spheres[segments[count].hit.sphere].colorPad.rgb;
+    reflectRay(origin, direction, segments[count].hit);
+  }
+  vec3 acc = vec3(0.0);
+  for (int i = count - 1; i >= 0; --i) {
+    if (segments[i].hit.sphere >= 0) {
+      acc = acc * pc.reflectivity * segments[i].sphereColor +
+            localColor(segments[i].hit, segments[i].direction, segments[i].sphereColor);
+    } else {
+      acc = pc.background;
+    }
+  }
+  return acc;
+}
+
+// Camera and output (spec sections 2 and 7) ==================================
+vec3 primaryRayDirection(ivec2 pixel) {
+  float w = float(pc.width);
+  float h = float(pc.height);
+  float th = pc.tanHalfFov;
+  float u = (2.0 * (float(pixel.x) + 0.5) / w - 1.0) * th * (w / h);
+  float v = (1.0 - 2.0 * (float(pixel.y) + 0.5) / h) * th;
+  return pc.cameraForward + u * pc.cameraRight + v * pc.cameraUp;
+}
+
+// Clamp and round(255 c) here, so that the value stored is k / 255 exactly
+// and the rgba8 conversion cannot round differently from the CPU renderers.
+vec4 toRgba8(vec3 c) {
+  return vec4(floor(clamp(c, 0.0, 1.0) * 255.0 + 0.5) / 255.0, 1.0);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // The grid is rounded up to whole workgroups: skip the overhang.
+  if (pixel.x >= pc.width || pixel.y >= pc.height) return;
+  vec3 origin = pc.cameraPosition;
+  vec3 direction = normalize(primaryRayDirection(pixel));
+  vec3 color = TWO_PASS ? traceTwoPass(origin, direction) : traceSinglePass(origin, direction);
+  imageStore(outputImage, pixel, toRgba8(color));
+}

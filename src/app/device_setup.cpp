@@ -1,0 +1,35 @@
+#include "app/device_setup.h"
+
+#include <ostream>
+
+#include "gpu/context.h"
+
+namespace rt {
+namespace {
+
+std::string firstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+}  // namespace
+
+DeviceSetup setUpDevice(const RunConfig& config, std::ostream& notes) {
+  // Asking for a device by name or for validation is asking for a device too.
+  const bool required = config.renderer == RendererKind::gpu || config.present == PresentMode::upload ||
+                        !config.device.empty() || config.vkValidation;
+  if (!required && config.present == PresentMode::none) return {{PresentMode::none, nullptr}, "--present none"};
+
+  const gpu::ContextOptions options{.deviceSelector = config.device, .validation = config.vkValidation};
+  if (required) {
+    const PresentMode mode = config.present.value_or(PresentMode::upload);
+    return {{mode, gpu::Context::open(options)}, config.present ? "--present" : "default: a Vulkan device is open"};
+  }
+  try {
+    return {{PresentMode::upload, gpu::Context::open(options)}, "default: a Vulkan device is open"};
+  } catch (const gpu::DeviceUnavailable& e) {
+    const std::string reason = "default: no Vulkan device (" + firstLine(e.what()) + ")";
+    if (!config.quiet) notes << "raytracer: note: no Vulkan device, frames are not presented (--present none): "
+                             << firstLine(e.what()) << "\n";
+    return {{PresentMode::none, nullptr}, reason};
+  }
+}
+
+}  // namespace rt

@@ -1,0 +1,162 @@
+#include "render/gpu_renderer.h"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "gpu/context.h"
+#include "gpu/gpu_layout.h"
+#include "gpu/present_image.h"
+#include "gpu/raytrace_pipeline.h"
+#include "gpu/timestamps.h"
+
+namespace rt {
+namespace {
+
+using PipelineStage = vk::PipelineStageFlagBits;
+using Access = vk::AccessFlagBits;
+
+// The output image's two states: written by the shader in GENERAL, read by
+// copies (present, readback) in TRANSFER_SRC_OPTIMAL.
+constexpr gpu::ImageState kShaderWrite{PipelineStage::eComputeShader, Access::eShaderWrite, vk::ImageLayout::eGeneral};
+constexpr gpu::ImageState kTransferRead{PipelineStage::eTransfer, Access::eTransferRead,
+                                        vk::ImageLayout::eTransferSrcOptimal};
+
+gpu::SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options) {
+  return {.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
+          .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
+          .maxDepth = scene.render.maxDepth};
+}
+
+// The spheres into device-local memory through a staging buffer: the
+// shader reads them for every ray, so they must not sit in host memory.
+void uploadSpheres(const gpu::Device& device, gpu::CommandRunner& runner, const gpu::Buffer& target,
+                   std::span<const gpu::GPUSphere> spheres) {
+  const gpu::Buffer staging(device, target.size(), vk::BufferUsageFlagBits::eTransferSrc, gpu::MemoryUse::upload);
+  std::memcpy(staging.mapped().data(), spheres.data(), spheres.size_bytes());
+  staging.flushHostWrites();
+  runner.run("scene upload", [&](const vk::raii::CommandBuffer& cb) {
+    cb.copyBuffer(staging.handle(), target.handle(), vk::BufferCopy{.size = spheres.size_bytes()});
+    // The spheres are written before any dispatch reads them.
+    gpu::bufferBarrier(cb, target.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
+                       PipelineStage::eComputeShader, Access::eShaderRead);
+  });
+}
+
+}  // namespace
+
+// What lives as long as the renderer: one command buffer for every phase and the timestamp queries.
+struct GPURenderer::DeviceObjects {
+  explicit DeviceObjects(const gpu::Device& d) : device(d) {}
+  const gpu::Device& device;
+  gpu::CommandRunner runner{device};
+  gpu::DispatchTimer timer{device};
+};
+
+// What prepare() makes for one scene, size and variant. Declared in
+// creation order, so the descriptor set goes before the buffer and image
+// it names.
+struct GPURenderer::SceneObjects {
+  SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& options, PresentMode mode)
+      : scene(s),
+        extent(e),
+        pipeline(d.device, specializationFor(s, options)),
+        spheres(d.device, sizeof(gpu::GPUSphere) * s.spheres.size(),
+                vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+                gpu::MemoryUse::deviceLocal),
+        output(d.device, e,
+               vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc),
+        bindings(d.device, pipeline, spheres, output),
+        readback(d.device, gpu::frameBytes(e), vk::BufferUsageFlagBits::eTransferDst, gpu::MemoryUse::readback) {
+    uploadSpheres(d.device, d.runner, spheres, gpu::toGpuSpheres(s.spheres));
+    if (mode == PresentMode::upload) presentImage.emplace(d.device, d.runner, e);
+  }
+
+  const Scene& scene;
+  Extent extent;
+  gpu::RaytracePipeline pipeline;
+  gpu::Buffer spheres;
+  gpu::DeviceImage output;
+  gpu::RaytraceBindings bindings;
+  gpu::Buffer readback;
+  std::optional<gpu::PresentImage> presentImage;  // mode upload only
+  vk::ImageLayout outputLayout = vk::ImageLayout::eUndefined;  // as the last submitted commands left it
+
+  // Records the output's move from the shader's writes to copies' reads, once per frame.
+  void recordOutputReadable(const vk::raii::CommandBuffer& cb) {
+    if (outputLayout == kTransferRead.layout) return;
+    if (outputLayout != kShaderWrite.layout) throw std::logic_error("GPU renderer: no frame rendered yet");
+    // The shader's writes are complete and visible before a copy reads them.
+    gpu::imageBarrier(cb, output.handle(), kShaderWrite, kTransferRead);
+    outputLayout = kTransferRead.layout;
+  }
+};
+
+GPURenderer::GPURenderer(PresentSetup setup) : setup_(std::move(setup)) {
+  if (!setup_.device) throw std::invalid_argument("the GPU renderer needs a Vulkan device");
+  device_ = gpu::translateVulkanErrors(
+      "GPU renderer set-up", [&] { return std::make_unique<DeviceObjects>(setup_.device->device()); });
+}
+
+GPURenderer::~GPURenderer() = default;
+
+RendererInfo GPURenderer::info() const { return {RendererKind::gpu, 0, 0, ""}; }
+
+void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
+  if (scene.spheres.empty()) throw std::invalid_argument("the GPU renderer needs at least one sphere");
+  scene_.reset();  // the old objects go before new ones take their memory
+  gpuMs_.reset();
+  scene_ = gpu::translateVulkanErrors("GPU renderer prepare", [&] {
+    return std::make_unique<SceneObjects>(*device_, scene, extent, options, setup_.mode);
+  });
+}
+
+void GPURenderer::render(const CameraFrame& camera) {
+  SceneObjects& s = *scene_;
+  const gpu::FrameConstants constants = gpu::makeFrameConstants(s.scene, camera, s.extent);
+  const gpu::DispatchTimer& timer = device_->timer;
+  gpu::translateVulkanErrors("render", [&] {
+    device_->runner.run("render", [&](const vk::raii::CommandBuffer& cb) {
+      timer.recordReset(cb);
+      // The last frame's copies out of the image finish before the shader
+      // overwrites it; from UNDEFINED, since every pixel is written anew.
+      gpu::imageBarrier(cb, s.output.handle(), {PipelineStage::eTransfer, {}, vk::ImageLayout::eUndefined},
+                        kShaderWrite);
+      s.pipeline.recordBind(cb, s.bindings.set(), constants);
+      timer.recordStart(cb);
+      cb.dispatch(gpu::workgroupCount(s.extent.width, RT_WORKGROUP_SIZE_X),
+                  gpu::workgroupCount(s.extent.height, RT_WORKGROUP_SIZE_Y), 1);
+      timer.recordEnd(cb);
+    });
+    s.outputLayout = kShaderWrite.layout;
+    gpuMs_ = timer.readMs();
+  });
+}
+
+void GPURenderer::present() {
+  SceneObjects& s = *scene_;
+  if (!s.presentImage) return;  // mode none: the frame stays in the storage image
+  gpu::translateVulkanErrors("present", [&] {
+    device_->runner.run("present", [&](const vk::raii::CommandBuffer& cb) {
+      s.recordOutputReadable(cb);
+      s.presentImage->recordCopyFrom(cb, s.output.handle());
+    });
+  });
+}
+
+void GPURenderer::readPresented(Image& target) {
+  SceneObjects& s = *scene_;
+  if (target.extent() != s.extent) throw std::logic_error("readPresented: target extent differs from the frame's");
+  gpu::translateVulkanErrors("frame readback", [&] {
+    device_->runner.run("frame readback", [&](const vk::raii::CommandBuffer& cb) {
+      if (s.presentImage) {
+        s.presentImage->recordReadback(cb, s.readback.handle());
+      } else {
+        s.recordOutputReadable(cb);
+        gpu::recordImageReadback(cb, s.output.handle(), kTransferRead.layout, s.extent, s.readback.handle());
+      }
+    });
+    gpu::copyToImage(s.readback, target);
+  });
+}
+
+}  // namespace rt
