@@ -1,0 +1,89 @@
+#pragma once
+// Shared by the GPU tests: one Vulkan context per test process with the
+// validation layer on, and a fixture that fails a test on any validation
+// warning or error it caused (the layer prints them to stderr).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <memory>
+
+#include "gpu/context.h"
+#include "render/present_setup.h"
+#include "render/renderer.h"
+#include "scene/camera.h"
+
+namespace rt::test {
+
+// Holds the context, so that its destruction, where Vulkan reports objects
+// left alive, is checked too: after the last test of the process.
+class ValidatedGpuEnvironment : public ::testing::Environment {
+ public:
+  static std::shared_ptr<gpu::Context> context() {
+    if (!instance_->context_) {
+      // RT_TEST_DEVICE: a --device selector, for machines with several devices.
+      const char* selector = std::getenv("RT_TEST_DEVICE");
+      instance_->context_ = gpu::Context::open({.deviceSelector = selector ? selector : "", .validation = true});
+    }
+    return instance_->context_;
+  }
+
+  void TearDown() override {
+    if (!context_) return;
+    const auto counter = context_->validationCounter();
+    const gpu::ValidationCounts before = counter->counts();
+    context_.reset();  // the last owner: device and instance are destroyed here
+    const gpu::ValidationCounts after = counter->counts();
+    EXPECT_EQ(after.total(), before.total()) << "validation messages while destroying the device (printed above)";
+  }
+
+ private:
+  friend ValidatedGpuEnvironment* registerEnvironment();
+  static inline ValidatedGpuEnvironment* instance_ = nullptr;
+  std::shared_ptr<gpu::Context> context_;
+};
+
+// gtest owns registered environments; this registers ours once per process.
+inline ValidatedGpuEnvironment* registerEnvironment() {
+  static ValidatedGpuEnvironment* const environment = [] {
+    auto owned = std::make_unique<ValidatedGpuEnvironment>();
+    ValidatedGpuEnvironment::instance_ = owned.get();
+    ::testing::AddGlobalTestEnvironment(owned.release());
+    return ValidatedGpuEnvironment::instance_;
+  }();
+  return environment;
+}
+
+// Base of every test that touches the device.
+class ValidatedGpuTest : public ::testing::Test {
+ protected:
+  static std::shared_ptr<gpu::Context> context() { return ValidatedGpuEnvironment::context(); }
+  static PresentSetup presentSetup(PresentMode mode) { return {mode, context()}; }
+
+  void SetUp() override { before_ = context()->validationMessages(); }
+  void TearDown() override {
+    const gpu::ValidationCounts after = context()->validationMessages();
+    EXPECT_EQ(after.errors, before_.errors) << "Vulkan validation errors (printed above)";
+    EXPECT_EQ(after.warnings, before_.warnings) << "Vulkan validation warnings (printed above)";
+  }
+
+ private:
+  static inline ValidatedGpuEnvironment* const registered_ = registerEnvironment();
+  gpu::ValidationCounts before_;
+};
+
+// One frame as the host sees it: prepare, render frame k, present, read back.
+inline Image renderFrame(Renderer& renderer, const Scene& scene, Extent extent, const RenderOptions& options,
+                         long long frame) {
+  renderer.prepare(scene, extent, options);
+  renderer.render(cameraAtFrame(scene.camera, frame));
+  Image out(extent);
+  renderer.present(out);
+  return out;
+}
+
+inline std::string describe(const ImageAgreement& a) {
+  return "within tolerance " + std::to_string(100.0 * a.fractionWithinTolerance) + " %, PSNR " +
+         std::to_string(a.psnrDb) + " dB, max channel difference " + std::to_string(a.maxChannelDifference);
+}
+
+}  // namespace rt::test
