@@ -68,7 +68,8 @@ std::string versionText() {
   const BuildInfo& b = buildInfo();
   std::ostringstream out;
   out << "raytracer " << b.version << " (commit " << b.gitCommit << (b.gitDirty ? ", dirty" : "") << ", "
-      << b.buildType << ", " << b.compiler << ")\n";
+      << b.buildType << ", " << b.compiler << ")\n"
+      << "Tracy client: " << (b.tracyClient.empty() ? "not built in" : b.tracyClient) << "\n";
   return out.str();
 }
 
@@ -117,6 +118,8 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   app.add_flag("--vk-validation", config.vkValidation,
                "enable VK_LAYER_KHRONOS_validation; any warning or error fails the run (exit 1)");
   app.add_flag("--quiet,-q", config.quiet, "print nothing but errors");
+  app.add_flag("--tracy-wait", config.tracyWait,
+               "wait for a Tracy viewer (127.0.0.1, port TRACY_PORT or 8086) before the first frame");
   bool version = false;
   app.add_flag("--version", version, "print the version and exit");
 
@@ -128,6 +131,11 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     if (chosen > 1) throw CLI::ValidationError("renderer", "choose one of the renderer flags");
     if (chosen == 1) config.renderer = static_cast<RendererKind>(std::ranges::find(rendererFlags, true) - rendererFlags.begin());
     config.scenePath = scene;
+#ifndef TRACY_ENABLE
+    if (config.tracyWait) {
+      throw CLI::ValidationError("--tracy-wait", "this build has no Tracy client (use the 'profile' preset)");
+    }
+#endif
 
     config.options = optionsForStage(Stage::optimized);
     if (!stage.empty()) config.options = optionsForStage(*enumByName<Stage>(schema::kStageNames, stage));

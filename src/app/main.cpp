@@ -1,7 +1,10 @@
 // raytracer: loads a scene, runs the frame loop with the chosen renderer,
 // then writes the per-frame CSV, the metadata sidecar and saved frames.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <thread>
 #include <iostream>
 #include <vector>
 
@@ -10,6 +13,7 @@
 #include "app/frame_loop.h"
 #include "app/run_metadata.h"
 #include "core/atomic_file.h"
+#include "core/profiler.h"
 #include "gpu/context.h"
 #include "render/renderer_factory.h"
 #include "scene/scene_loader.h"
@@ -60,6 +64,22 @@ void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, 
   }
 }
 
+// Blocks until a Tracy viewer is connected, so the capture holds every frame.
+void waitForTracyViewer() {
+  const char* port = std::getenv("TRACY_PORT");
+  std::fprintf(stderr, "raytracer: waiting for a Tracy viewer on 127.0.0.1:%s ...\n", port != nullptr ? port : "8086");
+  while (!TracyIsConnected) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+}
+
+std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) {
+  return std::string(rt::nameOf(id.renderer.kind)) + " scene=" + id.scene + " " + std::to_string(id.extent.width) + "x" +
+         std::to_string(id.extent.height) + " threads=" + std::to_string(id.renderer.threads) +
+         " lanes=" + std::to_string(id.renderer.lanes) + " target=" + id.renderer.simdTarget +
+         " algorithm=" + std::string(rt::nameOf(id.options.algorithm)) + " early_exit=" + id.options.earlyExits.toString() +
+         " frames=" + std::to_string(config.warmupFrames) + "+" + std::to_string(config.measuredFrames) +
+         " present=" + std::string(rt::nameOf(id.present)) + (id.device ? " device=" + id.device->name : "");
+}
+
 // --list-devices: every device the loader reports, the default choice marked.
 int listDevices(const rt::RunConfig& config) {
   const auto devices = rt::gpu::listDevices({.validation = config.vkValidation});
@@ -98,6 +118,9 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
     identity.device = setup.present.device->info();
     identity.validation = setup.present.device->validationEnabled();
   }
+  if (config.tracyWait) waitForTracyViewer();
+  [[maybe_unused]] const std::string description = describeRun(identity, config);
+  TracyMessage(description.data(), description.size());
   const rt::FrameLoopResult result = rt::runFrameLoop(*renderer, scene, config);
   times.finishedAt = std::chrono::system_clock::now();
 

@@ -27,6 +27,7 @@ struct RunConfig {
   std::optional<std::filesystem::path> metaPath;
   std::vector<SaveFrameRequest> saveFrames;
   bool quiet = false;
+  bool tracyWait = false;  // wait for a Tracy viewer before the first frame
   std::vector<std::string> commandLine;
   // Vulkan (issue 4).
   std::optional<PresentMode> present;  // --present; nullopt: upload when a device opens, else none

@@ -9,8 +9,7 @@
 
 #include "gpu/context.h"
 #include "render/present_setup.h"
-#include "render/renderer.h"
-#include "scene/camera.h"
+#include "render/render_test_support.h"
 
 namespace rt::test {
 
@@ -70,20 +69,5 @@ class ValidatedGpuTest : public ::testing::Test {
   static inline ValidatedGpuEnvironment* const registered_ = registerEnvironment();
   gpu::ValidationCounts before_;
 };
-
-// One frame as the host sees it: prepare, render frame k, present, read back.
-inline Image renderFrame(Renderer& renderer, const Scene& scene, Extent extent, const RenderOptions& options,
-                         long long frame) {
-  renderer.prepare(scene, extent, options);
-  renderer.render(cameraAtFrame(scene.camera, frame));
-  Image out(extent);
-  renderer.present(out);
-  return out;
-}
-
-inline std::string describe(const ImageAgreement& a) {
-  return "within tolerance " + std::to_string(100.0 * a.fractionWithinTolerance) + " %, PSNR " +
-         std::to_string(a.psnrDb) + " dB, max channel difference " + std::to_string(a.maxChannelDifference);
-}
 
 }  // namespace rt::test

@@ -24,14 +24,17 @@ struct AgreementCase {
   Extent extent;
 };
 
-std::string caseName(const ::testing::TestParamInfo<AgreementCase>& info) {
-  const AgreementCase& c = info.param;
+std::string caseName(const AgreementCase& c) {
   std::string name = std::string(c.scene) + "_" + std::string(nameOf(c.algorithm)) +
                      (c.bounce ? "_bounce_" : "_noexit_") + std::to_string(c.extent.width) + "x" +
                      std::to_string(c.extent.height);
   std::ranges::replace(name, '-', '_');
   return name;
 }
+
+// gtest's name for a case, and how it prints one in a failure.
+std::string testName(const ::testing::TestParamInfo<AgreementCase>& info) { return caseName(info.param); }
+void PrintTo(const AgreementCase& c, std::ostream* os) { *os << caseName(c); }
 
 std::vector<AgreementCase> allCases() {
   std::vector<AgreementCase> cases;
@@ -65,7 +68,7 @@ TEST_P(GpuAgreement, AgreesWithTheSequentialRenderer) {
   EXPECT_TRUE(agreement.agrees()) << describe(agreement);
 }
 
-INSTANTIATE_TEST_SUITE_P(AllScenesAlgorithmsAndSizes, GpuAgreement, ::testing::ValuesIn(allCases()), caseName);
+INSTANTIATE_TEST_SUITE_P(AllScenesAlgorithmsAndSizes, GpuAgreement, ::testing::ValuesIn(allCases()), testName);
 
 class GpuRendererTest : public ValidatedGpuTest {
  protected:

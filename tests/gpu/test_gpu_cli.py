@@ -1,0 +1,121 @@
+"""The binary's Vulkan side, end to end: --list-devices, the no-device exit
+(code 3), --present, --device, and a --gpu run under the validation layer."""
+
+import csv
+import json
+import os
+import re
+import subprocess
+
+import pytest
+
+SMALL = ["--width", "48", "--height", "32", "--warmup", "1", "--frames", "2", "--quiet"]
+EXIT_BAD_INPUT = 2
+EXIT_NO_DEVICE = 3
+
+# A loader that finds no driver at all: the "no device" path on any machine.
+NO_DRIVER = {"VK_DRIVER_FILES": "/nonexistent.json", "VK_ICD_FILENAMES": "/nonexistent.json"}
+
+DEVICE_LINE = re.compile(
+    r"^  \d+[* ]  .+  type=(discrete|integrated|virtual|cpu|other)  driver=.+  api=\d+\.\d+\.\d+", re.M)
+
+
+def run(raytracer, *args, env=None):
+    return subprocess.run([raytracer, *map(str, args)], capture_output=True, text=True,
+                          env={**os.environ, **(env or {})})
+
+
+def read_csv(path):
+    with path.open(newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_list_devices(raytracer):
+    done = run(raytracer, "--list-devices")
+    assert done.returncode == 0, done.stderr
+    lines = DEVICE_LINE.findall(done.stdout)
+    assert lines, done.stdout
+    assert done.stdout.startswith("Vulkan devices (index, name, type, driver, API version")
+    assert len(re.findall(r"^  \d+\*", done.stdout, re.M)) == 1, "exactly one default device is marked"
+
+
+def test_list_devices_without_a_driver_exits_3(raytracer):
+    done = run(raytracer, "--list-devices", env=NO_DRIVER)
+    assert done.returncode == EXIT_NO_DEVICE, done.stderr
+    assert "no Vulkan device" in done.stderr
+
+
+def test_gpu_without_a_driver_exits_3_and_says_what_it_found(raytracer, repo_root, tmp_path):
+    done = run(raytracer, "--gpu", repo_root / "scenes/default.json", *SMALL, "--csv", tmp_path / "run.csv",
+               env=NO_DRIVER)
+    assert done.returncode == EXIT_NO_DEVICE, done.stderr
+    assert "no Vulkan device" in done.stderr
+    assert "VK_DRIVER_FILES=/nonexistent.json" in done.stderr, "names the loader setting it saw"
+    assert not (tmp_path / "run.csv").exists(), "nothing rendered, nothing written"
+
+
+def test_cpu_renderer_without_a_driver_presents_nowhere(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, "--sequential", repo_root / "scenes/default.json", "--width", "48", "--height", "32",
+               "--warmup", "1", "--frames", "2", "--csv", csv_path, env=NO_DRIVER)
+    assert done.returncode == 0, done.stderr
+    assert "note: no Vulkan device" in done.stderr
+    rows = read_csv(csv_path)
+    assert {r["present"] for r in rows} == {"none"}
+    assert {r["device"] for r in rows} == {""}
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    assert meta["device"] is None
+    assert meta["config"]["present"] == "none"
+    assert meta["config"]["present_reason"].startswith("default: no Vulkan device")
+
+
+def test_explicit_upload_without_a_driver_exits_3(raytracer, repo_root):
+    done = run(raytracer, "--sequential", repo_root / "scenes/default.json", *SMALL, "--present", "upload",
+               env=NO_DRIVER)
+    assert done.returncode == EXIT_NO_DEVICE, done.stderr
+
+
+def test_unknown_device_exits_3_and_lists_the_devices(raytracer, repo_root):
+    done = run(raytracer, "--gpu", repo_root / "scenes/default.json", *SMALL, "--device", "no-such-gpu-anywhere")
+    assert done.returncode == EXIT_NO_DEVICE, done.stderr
+    assert "no-such-gpu-anywhere" in done.stderr
+    assert DEVICE_LINE.search(done.stderr), done.stderr
+
+
+def test_bad_present_mode_is_bad_input(raytracer):
+    assert run(raytracer, "--present", "swapchain").returncode == EXIT_BAD_INPUT
+
+
+@pytest.mark.parametrize("present", ["upload", "none"])
+def test_validated_gpu_run_records_gpu_time_and_the_device(raytracer, repo_root, tmp_path, present):
+    csv_path = tmp_path / "run.csv"
+    frame = tmp_path / "frame2.png"
+    done = run(raytracer, "--gpu", repo_root / "scenes/random20.json", *SMALL, "--vk-validation",
+               "--present", present, "--csv", csv_path, "--save-frame", f"2:{frame}")
+    assert done.returncode == 0, done.stderr
+    assert "vulkan error" not in done.stderr and "vulkan warning" not in done.stderr, done.stderr
+    rows = read_csv(csv_path)
+    assert len(rows) == 3
+    assert {r["renderer"] for r in rows} == {"gpu"}
+    assert {r["present"] for r in rows} == {present}
+    assert all(float(r["gpu_ms"]) > 0 for r in rows), "timestamps around every dispatch"
+    assert all(float(r["gpu_ms"]) <= float(r["render_ms"]) * 1.05 + 0.05 for r in rows)
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    device = meta["device"]
+    assert device["name"] == rows[0]["device"] != ""
+    assert device["validation"] is True
+    for key in ("type", "driver_name", "driver_version", "api_version", "timestamp_period_ns"):
+        assert device[key] not in ("", None), key
+    assert frame.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_cpu_renderer_uploads_by_default_when_a_device_opens(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, "--sequential", repo_root / "scenes/default.json", *SMALL, "--vk-validation",
+               "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    rows = read_csv(csv_path)
+    assert {r["present"] for r in rows} == {"upload"}
+    assert all(r["gpu_ms"] == "" for r in rows)
+    assert json.loads((tmp_path / "run.meta.json").read_text())["config"]["present_reason"].startswith("default")
+
