@@ -68,41 +68,51 @@ bool hasExtension(const std::vector<vk::ExtensionProperties>& extensions, std::s
                              [&](const vk::ExtensionProperties& e) { return name == e.extensionName.data(); });
 }
 
-vk::raii::Instance createInstance(const vk::raii::Context& context, bool validation, ValidationCounter& counter) {
+// What an instance enables (the names are static strings).
+struct InstanceRequest {
   std::vector<const char*> layers;
   std::vector<const char*> extensions;
   vk::InstanceCreateFlags flags;
+  bool validationFeatures = false;  // VK_EXT_validation_features: synchronization validation
+};
+
+InstanceRequest instanceRequest(const vk::raii::Context& context, bool validation) {
+  InstanceRequest request;
   // Portability drivers (MoltenVK) are listed only when asked for.
   if (hasExtension(context.enumerateInstanceExtensionProperties(), VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME)) {
-    extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
-    flags |= vk::InstanceCreateFlagBits::eEnumeratePortabilityKHR;
+    request.extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
+    request.flags |= vk::InstanceCreateFlagBits::eEnumeratePortabilityKHR;
   }
+  if (!validation) return request;
+  if (!hasLayer(context, kValidationLayer)) {
+    throw DeviceUnavailable(std::string("validation asked for, but ") + kValidationLayer +
+                            " is not installed (Debian: apt-get install vulkan-validationlayers)");
+  }
+  request.layers.push_back(kValidationLayer);
+  request.extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  request.validationFeatures = hasExtension(context.enumerateInstanceExtensionProperties(std::string(kValidationLayer)),
+                                            VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+  if (request.validationFeatures) request.extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+  return request;
+}
 
+vk::raii::Instance createInstance(const vk::raii::Context& context, bool validation, ValidationCounter& counter) {
+  const InstanceRequest request = instanceRequest(context, validation);
   const vk::ApplicationInfo app{.pApplicationName = "raytracer", .apiVersion = kApiVersion};
-  vk::InstanceCreateInfo info{.flags = flags, .pApplicationInfo = &app};
-  // Chained into the create info too, so instance creation itself is checked.
+  vk::InstanceCreateInfo info{.flags = request.flags,
+                              .pApplicationInfo = &app,
+                              .enabledLayerCount = static_cast<std::uint32_t>(request.layers.size()),
+                              .ppEnabledLayerNames = request.layers.data(),
+                              .enabledExtensionCount = static_cast<std::uint32_t>(request.extensions.size()),
+                              .ppEnabledExtensionNames = request.extensions.data()};
+  // The messenger is chained into the create info too, so that instance
+  // creation and destruction are checked as well.
   vk::DebugUtilsMessengerCreateInfoEXT messenger = messengerCreateInfo(counter);
   constexpr std::array kFeatures{vk::ValidationFeatureEnableEXT::eSynchronizationValidation};
   vk::ValidationFeaturesEXT features{.enabledValidationFeatureCount = kFeatures.size(),
                                      .pEnabledValidationFeatures = kFeatures.data()};
-  if (validation) {
-    if (!hasLayer(context, kValidationLayer)) {
-      throw DeviceUnavailable(std::string("validation asked for, but ") + kValidationLayer +
-                              " is not installed (Debian: apt-get install vulkan-validationlayers)");
-    }
-    layers.push_back(kValidationLayer);
-    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-    info.pNext = &messenger;
-    if (hasExtension(context.enumerateInstanceExtensionProperties(std::string(kValidationLayer)),
-                     VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME)) {
-      extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
-      messenger.pNext = &features;
-    }
-  }
-  info.enabledLayerCount = static_cast<std::uint32_t>(layers.size());
-  info.ppEnabledLayerNames = layers.data();
-  info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
-  info.ppEnabledExtensionNames = extensions.data();
+  if (validation) info.pNext = &messenger;
+  if (request.validationFeatures) messenger.pNext = &features;
   try {
     return vk::raii::Instance(context, info);
   } catch (const vk::SystemError& e) {

@@ -110,8 +110,13 @@ void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions
   });
 }
 
+GPURenderer::SceneObjects& GPURenderer::prepared() {
+  if (!scene_) throw std::logic_error("GPU renderer: prepare() was not called");
+  return *scene_;
+}
+
 void GPURenderer::render(const CameraFrame& camera) {
-  SceneObjects& s = *scene_;
+  SceneObjects& s = prepared();
   const gpu::FrameConstants constants = gpu::makeFrameConstants(s.scene, camera, s.extent);
   const gpu::DispatchTimer& timer = device_->timer;
   gpu::translateVulkanErrors("render", [&] {
@@ -122,6 +127,8 @@ void GPURenderer::render(const CameraFrame& camera) {
       gpu::imageBarrier(cb, s.output.handle(), {PipelineStage::eTransfer, {}, vk::ImageLayout::eUndefined},
                         kShaderWrite);
       s.pipeline.recordBind(cb, s.bindings.set(), constants);
+      // Tracy's GPU zone (TracyVkZone, issue 5) belongs around these three
+      // commands, with TracyVkCollect in this same command buffer.
       timer.recordStart(cb);
       cb.dispatch(gpu::workgroupCount(s.extent.width, RT_WORKGROUP_SIZE_X),
                   gpu::workgroupCount(s.extent.height, RT_WORKGROUP_SIZE_Y), 1);
@@ -133,7 +140,7 @@ void GPURenderer::render(const CameraFrame& camera) {
 }
 
 void GPURenderer::present() {
-  SceneObjects& s = *scene_;
+  SceneObjects& s = prepared();
   if (!s.presentImage) return;  // mode none: the frame stays in the storage image
   gpu::translateVulkanErrors("present", [&] {
     device_->runner.run("present", [&](const vk::raii::CommandBuffer& cb) {
@@ -144,7 +151,7 @@ void GPURenderer::present() {
 }
 
 void GPURenderer::readPresented(Image& target) {
-  SceneObjects& s = *scene_;
+  SceneObjects& s = prepared();
   if (target.extent() != s.extent) throw std::logic_error("readPresented: target extent differs from the frame's");
   gpu::translateVulkanErrors("frame readback", [&] {
     device_->runner.run("frame readback", [&](const vk::raii::CommandBuffer& cb) {

@@ -33,6 +33,7 @@ class GPURenderer final : public Renderer {
  private:
   struct DeviceObjects;
   struct SceneObjects;
+  SceneObjects& prepared();  // throws std::logic_error before prepare()
 
   PresentSetup setup_;  // holds the device: declared first, so destroyed last
   std::unique_ptr<DeviceObjects> device_;

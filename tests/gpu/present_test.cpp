@@ -57,13 +57,34 @@ RunConfig smallRun() {
   return config;
 }
 
+// Forwards to a renderer and counts the readbacks the frame loop asks for.
+class CountingReadbacks final : public Renderer {
+ public:
+  explicit CountingReadbacks(Renderer& inner) : inner_(inner) {}
+  [[nodiscard]] RendererInfo info() const override { return inner_.info(); }
+  void prepare(const Scene& s, Extent e, const RenderOptions& o) override { inner_.prepare(s, e, o); }
+  void render(const CameraFrame& camera) override { inner_.render(camera); }
+  void present() override { inner_.present(); }
+  void readPresented(Image& target) override {
+    ++readbacks;
+    inner_.readPresented(target);
+  }
+  [[nodiscard]] std::optional<double> lastGpuMs() const override { return inner_.lastGpuMs(); }
+  int readbacks = 0;
+
+ private:
+  Renderer& inner_;
+};
+
 TEST_F(PresentTest, FrameLoopRecordsGpuTimeAndReadsBackOnlySavedFrames) {
   if (context()->info().timestampValidBits == 0) GTEST_SKIP() << "the queue has no timestamps";
   const RunConfig config = smallRun();
   GPURenderer gpu(presentSetup(PresentMode::upload));
-  const FrameLoopResult result = runFrameLoop(gpu, scene_, config);
+  CountingReadbacks counting(gpu);
+  const FrameLoopResult result = runFrameLoop(counting, scene_, config);
   ASSERT_FALSE(result.failure);
   ASSERT_EQ(result.records.size(), 4u);
+  EXPECT_EQ(counting.readbacks, 1) << "one saved frame, one readback";
   for (const FrameRecord& r : result.records) {
     ASSERT_TRUE(r.gpuMs) << "frame " << r.frame;
     EXPECT_GT(*r.gpuMs, 0.0);

@@ -141,6 +141,11 @@ TEST_F(GpuRendererTest, ReportsItselfAsGpu) {
   EXPECT_EQ(gpu.info().lanes, 0);
 }
 
+TEST_F(GpuRendererTest, RenderingBeforePrepareIsAnError) {
+  GPURenderer gpu(presentSetup(PresentMode::upload));
+  EXPECT_THROW(gpu.render(cameraAtFrame(scene_.camera, 0)), std::logic_error);
+}
+
 TEST(GpuRendererWithoutDevice, IsRefused) { EXPECT_THROW(GPURenderer(PresentSetup{}), std::invalid_argument); }
 
 }  // namespace
