@@ -27,23 +27,29 @@ plt.rcParams.update({"svg.hashsalt": "rtbench", "figure.dpi": 100, "savefig.dpi"
 def save(fig, stem: Path) -> list[Path]:
     """Writes stem.png and stem.svg, each via a temporary file."""
     paths = []
+    fig.tight_layout()  # once: both formats share the layout
     for fmt in FORMATS:
         path = stem.with_suffix(f".{fmt}")
         with atomic.atomic_path(path) as tmp:
-            fig.savefig(tmp, format=fmt, bbox_inches="tight", metadata={"Date": None} if fmt == "svg" else {"Software": None})
+            fig.savefig(tmp, format=fmt, metadata={"Date": None} if fmt == "svg" else {"Software": None})
         paths.append(path)
     plt.close(fig)
     return paths
 
 
-def _log_y(ax, low: float | None = None, high: float | None = None) -> None:
-    """Log y axis with plain numbers (0.5, 2, 40) instead of 5x10^-1."""
+def _log_y(ax, values, pad: float = 1.0) -> None:
+    """Log y axis with plain numbers (0.5, 2, 40, not 5x10^-1); over less than
+    three decades also 2x and 5x ticks, so a narrow panel still has labels.
+    `pad` > 1 sets the limits to the data's range widened by that factor."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v) & (v > 0)]
     ax.set_yscale("log")
-    plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
-    ax.yaxis.set_major_formatter(plain)
-    ax.yaxis.set_minor_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: ""))
-    if low is not None and high is not None and np.isfinite(low) and np.isfinite(high) and low > 0:
-        ax.set_ylim(low / 1.6, high * 1.6)
+    if v.size and np.log10(v.max() / v.min()) < 3:
+        ax.yaxis.set_major_locator(matplotlib.ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda y, _: f"{y:g}"))
+    ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    if v.size and pad > 1:
+        ax.set_ylim(v.min() / pad, v.max() * pad)
 
 
 def _ordered(values, order) -> list:
@@ -84,7 +90,7 @@ def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
             hi = np.array([r["ci_high"].iloc[0] if len(r) else np.nan for r in rows])
             x = np.arange(len(scenes)) + (i - (len(labels) - 1) / 2) * width
             ax.bar(x, med, width, label=label, color=colors(i % 10), yerr=[med - lo, hi - med], capsize=2)
-        _log_y(ax, np.nanmin(df["ci_low"].to_numpy(dtype=float)), np.nanmax(df["ci_high"].to_numpy(dtype=float)))
+        _log_y(ax, np.concatenate([df["ci_low"].to_numpy(dtype=float), df["ci_high"].to_numpy(dtype=float)]), pad=1.6)
         ax.set_title(f"stage {stage}")
         ax.set_xticks(np.arange(len(scenes)), scenes)
         ax.grid(axis="y", which="both", alpha=0.3)
@@ -159,7 +165,7 @@ def frame_series(frames: pd.DataFrame, stem: Path) -> list[Path]:
             ax.scatter(x[flagged], y[flagged], color="red", marker="x", s=30, zorder=3)
             for boundary in np.flatnonzero(np.diff(group[names.REPETITION].to_numpy())) + 0.5:
                 ax.axvline(boundary, color="grey", linestyle=":", linewidth=0.8)
-        _log_y(ax)
+        _log_y(ax, part[names.RENDER_MS])
         ax.set_title(f"{scene}, {stage}", fontsize=8)
         ax.grid(alpha=0.3, which="both")
         if len(part):
@@ -185,7 +191,7 @@ def distributions(frames: pd.DataFrame, stem: Path) -> list[Path]:
             ax.boxplot([g[names.RENDER_MS].to_numpy() for g in groups], showmeans=True, widths=0.6)
             ax.set_xticks(range(1, len(groups) + 1), [_config_label(g) for g in groups], rotation=30, ha="right",
                           fontsize=7)
-        _log_y(ax)
+        _log_y(ax, part[names.RENDER_MS])
         ax.set_title(f"{scene}, {stage}", fontsize=8)
         ax.grid(axis="y", alpha=0.3, which="both")
     fig.supylabel("render_ms of measured frames (log scale)")
@@ -208,7 +214,7 @@ def thesis_speedups(side: pd.DataFrame, stem: Path) -> list[Path]:
     ax.bar(x - 0.2, side["thesis"], 0.4, label="thesis (M1, -O0)")
     ax.bar(x + 0.2, side["ours"], 0.4, label="ours")
     ax.axhline(1.0, color="k", linewidth=0.8)
-    _log_y(ax)
+    _log_y(ax, np.concatenate([side["thesis"].to_numpy(), side["ours"].to_numpy(), [1.0]]))
     ax.set_xticks(x, labels, fontsize=7)
     ax.set_ylabel(f"speedup over {names.reference_renderer()} (log scale)")
     ax.set_title(f"Speedups, thesis vs ours: {side['scene'].iloc[0]}")

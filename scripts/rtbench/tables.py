@@ -69,7 +69,8 @@ def to_markdown(table: Table) -> str:
 
     rule = "|" + "|".join(":--" if a == "l" else "--:" for a in table.align) + "|"
     lines = [f"**{table.title}**", "", cells(table.headers), rule, *(cells(r) for r in table.rows)]
-    lines += ["", *(f"{n}" for n in table.notes)] if table.notes else []
+    for note in table.notes:
+        lines += ["", note]
     return "\n".join(lines) + "\n"
 
 
