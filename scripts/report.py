@@ -14,6 +14,7 @@ error naming the file.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -22,8 +23,16 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 try:
     from rtbench import load, report, thesis
 except ImportError as e:  # pandas or matplotlib missing for this interpreter
-    sys.exit(f"report.py: {e}; run it with the Python that has pandas and matplotlib "
-             f"(on Debian: /usr/bin/python3 {sys.argv[0]}, after scripts/setup-debian)")
+    # The same choice as scripts/lib/python.sh: $RT_PYTHON, else Debian's
+    # /usr/bin/python3 (where apt put pandas), even when another python3
+    # (pyenv, a venv) comes first on PATH. Tried once.
+    other = os.environ.get("RT_PYTHON") or "/usr/bin/python3"
+    untried = not os.environ.get("RT_REPORT_REEXEC")
+    if untried and os.path.isfile(other) and os.path.realpath(other) != os.path.realpath(sys.executable):
+        os.environ["RT_REPORT_REEXEC"] = "1"
+        os.execv(other, [other, __file__, *sys.argv[1:]])
+    sys.exit(f"report.py: {e}; run it with a Python that has pandas and matplotlib "
+             f"(on Debian: scripts/setup-debian installs them for /usr/bin/python3)")
 
 
 def main(argv: list[str] | None = None) -> int:

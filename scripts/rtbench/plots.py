@@ -77,7 +77,7 @@ def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
     df = summary.assign(_label=summary.apply(_renderer_label, axis=1))
     stages_ = _ordered(df[names.STAGE], names.stage_order)
     scenes = list(pd.unique(df[names.SCENE]))
-    labels = _ordered(df["_label"], lambda l: names.renderer_order(l.split(" ")[0]))
+    labels = _ordered(df["_label"], lambda text: names.renderer_order(text.split(" ")[0]))
     fig, axes = plt.subplots(1, len(stages_), figsize=(4.2 * len(stages_) + 1, 3.8), sharey=True, squeeze=False)
     width = 0.8 / max(len(labels), 1)
     colors = plt.get_cmap("tab10")

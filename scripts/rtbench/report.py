@@ -31,7 +31,7 @@ class ReportInputs:
 
     run_dirs: list[Path]
     frames: pd.DataFrame
-    manifests: list[dict]
+    manifests: list[dict | None]  # one per run directory; None where it has none
     thesis_tables: pd.DataFrame
     thesis_reported: pd.DataFrame
     gpu_estimates: list[metrics.GpuEstimate]
@@ -53,7 +53,7 @@ def gather(run_dirs: list[Path], gpu_override: float | None = None) -> ReportInp
     """Loads the runs (strictly: errors name the file) and the thesis' data."""
     run_dirs = [Path(d) for d in run_dirs]
     frames = load.load_runs(run_dirs)
-    manifests = [m for m in (load.read_manifest(d) for d in run_dirs) if m is not None]
+    manifests = [load.read_manifest(d) for d in run_dirs]
     return ReportInputs(run_dirs, frames, manifests, thesis.load_tables(), thesis.load_reported(),
                         metrics.load_gpu_estimates(), gpu_override)
 
@@ -97,7 +97,7 @@ def _scene_order(summary: pd.DataFrame, thesis_tables: pd.DataFrame) -> list[str
 
 def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
     """The runner's machine warnings, plus what the data themselves show."""
-    warnings = [w for m in inputs.manifests for w in m.get("warnings", [])]
+    warnings = [w for m in inputs.manifests if m for w in m.get("warnings", [])]
     spreads = {stats.config_label(r): r["rep_spread"] for _, r in summary.iterrows()}
     warnings += noise.spread_warnings(spreads)
     builds = sorted(set(inputs.frames[names.BUILD_TYPE]))
@@ -223,7 +223,7 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
 def _what_ran(inputs: ReportInputs, results: ReportResults) -> str:
     frames = inputs.frames
     lines = ["## What ran\n", "| | |", "|:--|:--|"]
-    for d, m in zip(inputs.run_dirs, inputs.manifests or [None] * len(inputs.run_dirs)):
+    for d, m in zip(inputs.run_dirs, inputs.manifests, strict=True):
         profile = (m or {}).get("profile", {}).get("name", "(no manifest)")
         lines.append(f"| run | `{d.name}` (profile `{profile}`) |")
     lines.append(f"| CPU | {', '.join(sorted(set(frames[names.CPU_MODEL])))} "
@@ -256,10 +256,10 @@ def _figure(figures: dict[str, list[Path]], key: str, caption: str, out: Path) -
     return f"![{caption}]({rel})\n\n*{caption}* ([SVG]({svg}))\n"
 
 
-def _unfinished_section(manifests: list[dict]) -> str:
+def _unfinished_section(manifests: list[dict | None]) -> str:
     """Runs that did not produce data: renderers this binary does not have
     (one line each), failures and interrupted runs (one line per run)."""
-    rows = [r for m in manifests for r in m.get("runs", []) if r.get("status") != load.OK]
+    rows = [r for m in manifests if m for r in m.get("runs", []) if r.get("status") != load.OK]
     if not rows:
         return ""
     lines = ["## Runs without data\n", "| run | status | exit | reason |", "|:--|:--|--:|:--|"]

@@ -216,10 +216,10 @@ def metrics_our(metrics: pd.DataFrame) -> Table:
 
 def metrics_vs_thesis(thesis_metrics: pd.DataFrame, metrics: pd.DataFrame, size: tuple[int, int]) -> Table:
     """The thesis' stated metrics, what its table gives, and ours."""
-    ours = _at_size(headline_rows(metrics), size) if not metrics.empty else metrics
+    ours = _at_size(headline_rows(metrics), size)
     rows = []
     for r in thesis_metrics.itertuples(index=False):
-        hit = _lookup(ours, **{names.STAGE: r.stage, names.SCENE: r.scene, names.RENDERER: r.renderer}) if not ours.empty else None
+        hit = _lookup(ours, **{names.STAGE: r.stage, names.SCENE: r.scene, names.RENDERER: r.renderer})
         s, p, e = (hit["speedup"], hit["p"], hit["karp_flatt"]) if hit is not None else (math.nan,) * 3
         rows.append([r.stage, r.scene, r.renderer, fmt_fixed(r.speedup_reported), fmt_fixed(r.speedup_recomputed),
                      fmt_int(r.p), fmt_sig(r.karp_flatt_reported), fmt_sig(r.karp_flatt_recomputed),
