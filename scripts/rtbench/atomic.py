@@ -38,5 +38,6 @@ def write_text(path: Path, text: str) -> Path:
 
 
 def write_json(path: Path, value) -> Path:
-    """Writes indented JSON (keys in insertion order), atomically."""
-    return write_text(path, json.dumps(value, indent=2, ensure_ascii=False) + "\n")
+    """Writes indented JSON (keys in insertion order), atomically; values JSON
+    has no type for (TOML dates in a profile, paths) are written as text."""
+    return write_text(path, json.dumps(value, indent=2, ensure_ascii=False, default=str) + "\n")

@@ -101,7 +101,8 @@ class RichObserver(runner.Observer):
 
     def finished(self, record, done, total):
         style = "green" if record.status == runner.OK else "red"
-        self.progress.console.print(f"[{style}]{record.status:>11}[/] {_line(record)}", highlight=False)
+        text = _line(record)
+        self.progress.console.print(f"[{style}]{text[:11]}[/]{text[11:]}", highlight=False)
         self.progress.update(self.task, completed=done)
 
     def close(self):
@@ -250,4 +251,8 @@ def finish(args, manifest: runner.Manifest, run_dir: Path, completed: bool) -> i
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except BrokenPipeError:  # e.g. `scripts/bench --dry-run | head`
+        sys.stderr.close()
+        sys.exit(0)

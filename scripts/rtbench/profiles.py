@@ -368,7 +368,7 @@ def _check_unique(configs: list[Config]) -> None:
     seen: set[str] = set()
     for c in configs:
         if c.id in seen:
-            raise ProfileError(f"configuration {c.id} appears twice (the same scene given twice?)")
+            raise ProfileError(f"configuration {c.id} appears twice (a scene, stage or axis value listed twice?)")
         seen.add(c.id)
 
 

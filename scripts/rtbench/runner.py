@@ -217,19 +217,19 @@ class Observer:
 
 
 def execute(manifest: Manifest, run_dir: Path, cwd: Path, timeout: float, observer: Observer) -> bool:
-    """Runs every pending record in order, rewriting the manifest after each.
-    Returns False if interrupted (Ctrl-C or SIGTERM): the record in flight is
-    marked interrupted, the ones after it stay pending, the manifest is written."""
+    """Runs every pending record in order, rewriting the manifest after each;
+    the observer counts the runs this call executes (unavailable ones are not
+    among them). Returns False if interrupted (Ctrl-C or SIGTERM): the record
+    in flight is marked interrupted, the ones after it stay pending, the
+    manifest is written."""
     todo = [r for r in manifest.runs if r.status == PENDING]
-    finished = len(manifest.runs) - len(todo)
     current = None
     try:
-        for record in todo:
+        for done, record in enumerate(todo):
             current = record
-            observer.started(record, finished, len(manifest.runs))
+            observer.started(record, done, len(todo))
             run_one(record, run_dir, cwd, timeout)
-            finished += 1
-            observer.finished(record, finished, len(manifest.runs))
+            observer.finished(record, done + 1, len(todo))
             current = None
             write_manifest(run_dir, manifest)
     except KeyboardInterrupt:

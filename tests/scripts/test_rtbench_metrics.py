@@ -59,3 +59,36 @@ def test_processors_from_metadata_and_gpu_estimates():
     p, why = metrics.processors(1, 0, "Some Future GPU", 2, est)
     assert math.isnan(p) and "--gpu-p" in why
     assert metrics.processors(1, 0, "Some Future GPU", 2, est, gpu_override=4096) == (4096.0, "--gpu-p")
+
+
+def _scaling_summary():
+    import pandas as pd
+    from rtbench import names
+
+    rows = []
+    for threads, median in ((1, 100.0), (2, 55.0), (4, 30.0)):
+        rows.append({names.SCENE: "s", names.STAGE: "optimized", names.RENDERER: "tbb_only", names.LANES: 1,
+                     names.SIMD_TARGET: "", names.WIDTH: 8, names.HEIGHT: 8, names.DEVICE: "", names.BUILD_TYPE: "Release",
+                     names.THREADS: threads, "median": median, "ci_low": median * 0.99, "ci_high": median * 1.01})
+    rows.append({**rows[0], names.RENDERER: names.reference_renderer(), "median": 100.0})
+    return pd.DataFrame(rows)
+
+
+def test_strong_scaling_is_relative_to_the_fewest_threads(tmp_path):
+    from rtbench import plots
+
+    scaling = metrics.scaling_table(_scaling_summary())
+    assert list(scaling["threads"]) == [1, 2, 4]  # the reference has one thread count: no curve
+    assert list(scaling["scaling_speedup"]) == pytest.approx([1.0, 100 / 55, 100 / 30])
+    assert list(scaling["efficiency"]) == pytest.approx([1.0, 100 / 55 / 2, 100 / 30 / 4])
+    written = plots.speedup_vs_threads(scaling, tmp_path / "scaling")
+    assert [p.suffix for p in written] == [".png", ".svg"] and all(p.stat().st_size > 0 for p in written)
+    assert plots.speedup_vs_threads(scaling.iloc[0:0], tmp_path / "none") == []
+
+
+def test_metrics_table_pairs_each_configuration_with_the_reference():
+    table = metrics.metrics_table(_scaling_summary(), 4, metrics.load_gpu_estimates())
+    assert list(table["threads"]) == [1, 2, 4]
+    assert list(table["speedup"]) == pytest.approx([1.0, 100 / 55, 100 / 30])
+    assert math.isnan(table["karp_flatt"].iloc[0])  # p = 1
+    assert table["karp_flatt"].iloc[2] == pytest.approx(metrics.karp_flatt(100 / 30, 4))
