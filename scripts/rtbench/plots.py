@@ -166,6 +166,7 @@ def frame_series(frames: pd.DataFrame, stem: Path) -> list[Path]:
             for boundary in np.flatnonzero(np.diff(group[names.REPETITION].to_numpy())) + 0.5:
                 ax.axvline(boundary, color="grey", linestyle=":", linewidth=0.8)
         _log_y(ax, part[names.RENDER_MS])
+        ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
         ax.set_title(f"{scene}, {stage}", fontsize=8)
         ax.grid(alpha=0.3, which="both")
         if len(part):

@@ -108,3 +108,17 @@ def test_no_finished_runs_is_an_error(tmp_path):
         load.load_runs([tmp_path])
     with pytest.raises(load.RunDataError, match="not a directory"):
         load.load_runs([tmp_path / "missing"])
+
+
+def test_fixture_is_what_its_generator_writes(tmp_path):
+    """The committed fixture follows the schema of today: regenerate it with
+    make_thesis_run.py after a schema change."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "regenerated"
+    subprocess.run([sys.executable, FIXTURE.parent / "make_thesis_run.py", "-o", out], check=True, capture_output=True)
+    committed = sorted(p.relative_to(FIXTURE) for p in FIXTURE.rglob("*") if p.is_file())
+    assert committed == sorted(p.relative_to(out) for p in out.rglob("*") if p.is_file())
+    for rel in committed:
+        assert (out / rel).read_bytes() == (FIXTURE / rel).read_bytes(), f"{rel} drifted: rerun make_thesis_run.py"
