@@ -19,7 +19,7 @@ from dataclasses import asdict, dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
 
-from rtbench import atomic, load, names
+from rtbench import atomic, load, names, noise
 from rtbench.profiles import Config, Profile
 
 PENDING, OK, FAILED, UNAVAILABLE, INTERRUPTED = "pending", load.OK, "failed", "unavailable", "interrupted"
@@ -70,7 +70,7 @@ class Manifest:
             "started_at": self.started_at,
             "finished_at": self.finished_at,
             "profile": {"name": self.profile.name, "path": str(self.profile.path), "description": self.profile.description,
-                        "preset": self.profile.preset, "repetitions": self.profile.repetitions,
+                        "preset": self.profile.preset, "repetitions": len({r.repetition for r in self.runs}),
                         "interleave": self.profile.interleave, "definition": self.profile.raw},
             "binary": self.binary,
             "command_line": self.command_line,
@@ -205,8 +205,12 @@ def remove_temporaries(run_dir: Path, record: RunRecord) -> None:
 
 
 def host_info() -> dict:
-    """What the runner knows about the machine (the binary records more)."""
-    return {"logical_cores": os.cpu_count(), "platform": platform.platform(), "python": platform.python_version()}
+    """What the runner knows about the machine at the start (each run's
+    metadata sidecar records more: CPU model, OS, build)."""
+    return {
+        "logical_cores": os.cpu_count(), "platform": platform.platform(), "python": platform.python_version(),
+        "cpu_governors": sorted(set(noise.read_governors().values())), "load_average_1min": noise.read_load_average(),
+    }
 
 
 class Observer:
