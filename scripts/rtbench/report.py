@@ -81,6 +81,7 @@ def build_tables(summary, met, thesis_metrics, thesis_tables) -> list[tables.Tab
                 t = tables.Table(f"{t.slug}-{size[0]}x{size[1]}", t.title, t.headers, t.rows, t.align, t.notes)
             built.append(t)
     built.append(tables.side_by_side(summary, thesis_tables, sizes[0]))
+    built.append(tables.stage_effects(summary, thesis_tables, sizes[0]))
     built.append(tables.metrics_our(met))
     built.append(tables.metrics_vs_thesis(thesis_metrics, met, sizes[0]))
     built.append(tables.thesis_published(thesis_metrics))
@@ -197,6 +198,8 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         "## The thesis beside ours\n",
         tables.to_markdown(by_slug["thesis-vs-ours"]),
         _figure(figures, "thesis_speedups", "Speedups: thesis vs ours", out),
+        "## What the stages change\n",
+        tables.to_markdown(by_slug["stage-effects"]),
         "## Speedup and Karp-Flatt\n",
         tables.to_markdown(by_slug["metrics-vs-thesis"]),
         tables.to_markdown(by_slug["metrics"]),

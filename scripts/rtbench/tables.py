@@ -76,7 +76,7 @@ def to_markdown(table: Table) -> str:
 
 LATEX_SPECIALS = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
                   "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}", "–": "--",
-                  "×": r"$\times$", "±": r"$\pm$"}
+                  "×": r"$\times$", "±": r"$\pm$", "→": r"$\rightarrow$"}
 
 
 def latex_escape(text: str) -> str:
@@ -190,6 +190,47 @@ def side_by_side(summary: pd.DataFrame, thesis_tables: pd.DataFrame, size: tuple
         [f"Thesis: mean per frame, 800x600, Apple M1, -O0. Ours: median per frame on this run's machine and build. "
          f"Times differ by machine and compiler settings; the speedups over {reference} are what compares."],
     )
+
+
+def stage_effects(summary: pd.DataFrame, thesis_tables: pd.DataFrame, size: tuple[int, int]) -> Table:
+    """What each step of the thesis' story buys, per renderer and scene: the
+    single-pass algorithm over the two-pass original, then the extra early
+    exits; as time ratios (> 1 = faster), ours beside the thesis'."""
+    stage_names = list(names.STAGES)
+    heads = _at_size(headline_rows(summary), size)
+    published = thesis_tables.drop_duplicates(["stage", "renderer", "scene"])
+    rows = []
+    for scene in pd.unique(heads[names.SCENE]):
+        for renderer in sorted(pd.unique(heads[names.RENDERER]), key=names.renderer_order):
+            ours = [_median_of(heads, scene, renderer, st) for st in stage_names]
+            theirs = [_thesis_ms(published, scene, renderer, st) for st in stage_names]
+            gains = [_ratio(ours[i], ours[i + 1]) for i in range(len(stage_names) - 1)]
+            thesis_gains = [_ratio(theirs[i], theirs[i + 1]) for i in range(len(stage_names) - 1)]
+            rows.append([scene, renderer, *map(fmt_ms, ours), *(f"{fmt_fixed(g, 2)} ({fmt_fixed(t, 2)})"
+                                                                  for g, t in zip(gains, thesis_gains))])
+    steps = [f"{a} → {b}" for a, b in zip(stage_names, stage_names[1:])]
+    return Table(
+        "stage-effects", f"What the stages change: median render_ms and speedup of each step ({size[0]}x{size[1]})",
+        ["scene", "renderer", *(f"{st} ms" for st in stage_names), *(f"{s} ours (thesis)" for s in steps)],
+        rows, "ll" + "r" * (2 * len(stage_names) - 1),
+        ["A step's speedup is the time before it divided by the time after it (> 1: the step helped). "
+         "The stages differ by algorithm (two-pass → single-pass) and early exits "
+         "(see schema/rt_schema.json); sphere and discriminant exits only change the SIMD renderers."],
+    )
+
+
+def _median_of(heads: pd.DataFrame, scene: str, renderer: str, stage: str) -> float:
+    hit = _lookup(heads, **{names.SCENE: scene, names.RENDERER: renderer, names.STAGE: stage})
+    return hit["median"] if hit is not None else math.nan
+
+
+def _thesis_ms(published: pd.DataFrame, scene: str, renderer: str, stage: str) -> float:
+    hit = published[(published["scene"] == scene) & (published["renderer"] == renderer) & (published["stage"] == stage)]
+    return float(hit["ms"].iloc[0]) if len(hit) else math.nan
+
+
+def _ratio(before: float, after: float) -> float:
+    return before / after if before > 0 and after > 0 else math.nan
 
 
 def metrics_our(metrics: pd.DataFrame) -> Table:

@@ -23,7 +23,8 @@ def generated(tmp_path_factory, repo_root):
 def test_readme_has_every_section(generated):
     readme = (generated / "README.md").read_text()
     for heading in ("## What ran", "## Warnings", "## How to read this report", "## The thesis' tables 1-4, for our run",
-                    "## The thesis beside ours", "## Speedup and Karp-Flatt", "## The thesis' own metrics, recomputed",
+                    "## The thesis beside ours", "## What the stages change",
+                    "## Speedup and Karp-Flatt", "## The thesis' own metrics, recomputed",
                     "## Figures", "## Runs without data"):
         assert heading in readme
     for n in (1, 2, 3, 4):
@@ -48,6 +49,13 @@ def test_metrics_reproduce_the_thesis_speedup_and_recomputed_karp_flatt(generate
     assert cells[9].startswith("5.956") and cells[10] == "32" and cells[11] == "0.141"
     gpu = next(line for line in metrics.splitlines() if line.startswith("| original | random100 | gpu |"))
     assert "742.735" in gpu and "| 1024 |" in gpu and "Apple M1" in gpu
+
+
+def test_stage_effects_show_what_each_step_buys(generated):
+    effects = (generated / "tables/stage-effects.md").read_text()
+    # thesis random100 simd_tbb: 23969 -> 7416 -> 2947 ms
+    assert "| random100 | simd_tbb | 23969.0 | 7416.0 | 2947.0 | 3.23 (3.23) | 2.52 (2.52) |" in effects
+    assert r"$\rightarrow$" in (generated / "tables/stage-effects.tex").read_text()
 
 
 def test_thesis_karp_flatt_is_recomputed_and_said_so(generated):
