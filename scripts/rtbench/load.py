@@ -139,15 +139,24 @@ def read_metadata(path: Path) -> dict:
     return meta
 
 
+# Where a GPU run's metadata may name its device: the GPU renderer (issue 4)
+# records "device name, type, driver ..."; its key is not in the schema yet,
+# so these spellings are all accepted, at the top level or inside `config`.
+DEVICE_HOLDERS = ("device", "gpu", "vulkan")
+DEVICE_NAME_KEYS = ("name", "device_name", "deviceName")
+
+
 def device_name(meta: dict) -> str:
-    """The GPU's name where the metadata records one (a `device` object or
-    string at the top level or inside `config`); empty otherwise."""
+    """The GPU's name where the metadata records one; empty otherwise."""
     for holder in (meta, meta.get(names.META_CONFIG, {})):
-        device = holder.get(names.DEVICE)
-        if isinstance(device, dict) and device.get("name"):
-            return str(device["name"])
-        if isinstance(device, str) and device:
-            return device
+        for key in DEVICE_HOLDERS:
+            value = holder.get(key)
+            if isinstance(value, str) and value:
+                return value
+            if isinstance(value, dict):
+                for name_key in DEVICE_NAME_KEYS:
+                    if value.get(name_key):
+                        return str(value[name_key])
     return ""
 
 

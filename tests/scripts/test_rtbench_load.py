@@ -122,3 +122,16 @@ def test_fixture_is_what_its_generator_writes(tmp_path):
     assert committed == sorted(p.relative_to(out) for p in out.rglob("*") if p.is_file())
     for rel in committed:
         assert (out / rel).read_bytes() == (FIXTURE / rel).read_bytes(), f"{rel} drifted: rerun make_thesis_run.py"
+
+
+@pytest.mark.parametrize(
+    "meta, expected",
+    [
+        ({"device": {"name": "llvmpipe (LLVM 15.0.6, 256 bits)"}}, "llvmpipe (LLVM 15.0.6, 256 bits)"),
+        ({"gpu": {"device_name": "NVIDIA H100 80GB HBM3"}}, "NVIDIA H100 80GB HBM3"),
+        ({"config": {"device": "Apple M1"}}, "Apple M1"),
+        ({"config": {}}, ""),
+    ],
+)
+def test_device_name_is_found_where_the_metadata_keeps_it(meta, expected):
+    assert load.device_name(meta) == expected
