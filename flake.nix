@@ -49,7 +49,7 @@
             VK_LOADER_LAYERS_DISABLE = "~implicit~";
           };
           # Apps and the dev shell: lavapipe unless RT_USE_HOST_VULKAN=1, which
-          # leaves the host's Vulkan setup (VK_* variables, drivers) alone.
+          # leaves driver selection to the host's Vulkan setup (a real GPU).
           lavapipeUnlessHostVulkan = ''
             if [ "''${RT_USE_HOST_VULKAN:-0}" != 1 ]; then
             ${lib.concatStringsSep "\n" (lib.mapAttrsToList (name: value: "  export ${name}=${lib.escapeShellArg value}") lavapipeEnv)}
@@ -171,7 +171,7 @@
             # The package's test suite runs in its checkPhase.
             raytracer = raytracer;
             # The project has no formatter or linter yet; this catches syntax
-            # errors in its scripts (bash -n, Python byte-compilation).
+            # errors in its scripts (bash -n, a parse of every Python file).
             scripts-syntax = pkgs.runCommand "raytracer-scripts-syntax" { nativeBuildInputs = [ python ]; } ''
               cd ${self}
               for f in scripts/lib/*.sh; do bash -n "$f"; done
