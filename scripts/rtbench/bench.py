@@ -33,17 +33,31 @@ from rtbench.profiles import ProfileError
 REPORT_SCRIPT = names.REPO_ROOT / "scripts" / "report.py"
 
 
+def default_runs_dir() -> Path:
+    return names.REPO_ROOT / "runs" if os.access(names.REPO_ROOT, os.W_OK) else Path.cwd() / "runs"
+
+
+def binary_from_environment(preset: str) -> Path | None:
+    """A prebuilt binary handed over by the environment (the Nix apps do)."""
+    value = os.environ.get("RT_BINARY_PAPER_O0" if preset == "paper-o0" else "RT_BINARY")
+    return Path(value) if value else None
+
+
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p = argparse.ArgumentParser(prog="bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or files (default: the profile's scenes)")
     p.add_argument("-p", "--profile", default="paper", help="profile name (profiles/NAME.toml) or file; default paper")
-    p.add_argument("--binary", type=Path, help="use this raytracer binary, build nothing")
+    p.add_argument("--binary", type=Path,
+                   help="use this raytracer binary, build nothing (default: $RT_BINARY, or $RT_BINARY_PAPER_O0 "
+                        "for a paper-o0 profile, when set, as under Nix)")
     p.add_argument("--preset", help="CMake preset to build (default: the profile's, usually release)")
     p.add_argument("--renderer", action="append", dest="renderers", metavar="NAME", choices=names.RENDERERS,
                    help="only this renderer (repeatable)")
     for key in ("width", "height", "warmup", "frames", "repetitions"):
         p.add_argument(f"--{key}", type=int, metavar="N", help=f"override the profile's {key}")
-    p.add_argument("--runs-dir", type=Path, default=names.REPO_ROOT / "runs", help="where run directories go (default runs/)")
+    p.add_argument("--runs-dir", type=Path, default=default_runs_dir(),
+                   help="where run directories go (default: runs/ in the repository, or in the current directory "
+                        "when the repository is read-only, as in the Nix store)")
     p.add_argument("--report-dir", type=Path, help="report output (default: RUN_DIR/report)")
     p.add_argument("--no-report", action="store_true", help="do not call scripts/report.py at the end")
     p.add_argument("--dry-run", action="store_true", help="print the schedule and exit")
@@ -178,12 +192,13 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def resolve_binary(args: argparse.Namespace, profile: profiles.Profile) -> Path | None:
-    if args.binary:
-        if not args.binary.is_file():
-            print(f"bench: --binary {args.binary}: no such file", file=sys.stderr)
-            return None
-        return args.binary.resolve()
     preset = args.preset or profile.preset
+    given = args.binary or binary_from_environment(preset)
+    if given:
+        if not given.is_file():
+            print(f"bench: binary {given}: no such file", file=sys.stderr)
+            return None
+        return given.resolve()
     print(f"bench: building preset {preset} (-j{args.jobs})", flush=True)
     try:
         return runner.build(preset, names.REPO_ROOT, args.jobs)
