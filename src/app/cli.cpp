@@ -164,7 +164,8 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   } catch (const CLI::CallForHelp&) {
     return CliExit{0, app.help(), ""};
   } catch (const CLI::ParseError& e) {
-    return CliExit{kExitBadInput, "", std::string("raytracer: ") + e.what() + "\n\n" + app.help()};
+    // The error comes last, where a tail of stderr (the bench runner's) still shows it.
+    return CliExit{kExitBadInput, "", app.help() + "\nraytracer: " + e.what() + "\n"};
   }
   return config;
 }
