@@ -79,12 +79,15 @@
               ] ++ lib.optionals tests [ pkgs.gtest ];
 
               # The preset itself (generator, build type, flags, build/<preset>),
-              # plus the install prefix and nixpkgs' Tracy client sources (used
-              # where the preset sets RT_TRACY=ON; never fetched with cargo).
+              # plus the install prefix, nixpkgs' Tracy client sources (used
+              # where the preset sets RT_TRACY=ON; never fetched with cargo) and
+              # the Vulkan loader's store path (the binary dlopens it, and
+              # dlopen does not search the store).
               configurePhase = ''
                 runHook preConfigure
                 cmake --preset ${preset} -DCMAKE_INSTALL_PREFIX=$out \
-                  -DRT_BUILD_TESTS=${if tests then "ON" else "OFF"} -DRT_TRACY_CLIENT_DIR=${tracyClientDir}
+                  -DRT_BUILD_TESTS=${if tests then "ON" else "OFF"} -DRT_TRACY_CLIENT_DIR=${tracyClientDir} \
+                  -DRT_VULKAN_LOADER=${pkgs.vulkan-loader}/lib/libvulkan.so.1
                 cd build/${preset}
                 runHook postConfigure
               '';
