@@ -16,6 +16,8 @@ namespace rt::gpu {
 
 // One sphere in the storage buffer (std430: a vec3 is 16-byte aligned, the
 // float after it fills the vec3's last 4 bytes; the struct is padded to 32).
+// The shader declares the same bytes as two vec4s (positionRadius,
+// colorPad), so the intersection loop loads a sphere in one 16-byte read.
 struct GPUSphere {
   glm::vec3 position;
   float radius;
