@@ -118,7 +118,7 @@ vk::raii::Instance createInstance(const vk::raii::Context& context, bool validat
   } catch (const vk::SystemError& e) {
     throw DeviceUnavailable(std::string("cannot create a Vulkan instance (") + e.what() +
                             "): no usable Vulkan driver was found (Debian: mesa-vulkan-drivers provides lavapipe)" +
-                            loaderEnvironment());
+                            "\nVulkan devices found:\n  (none)" + loaderEnvironment());
   }
 }
 
