@@ -30,6 +30,10 @@ rt_require_package(glm libglm-dev)
 rt_require_package(nlohmann_json nlohmann-json3-dev)
 rt_require_package(CLI11 libcli11-dev)
 rt_require_pkg_config(STB stb libstb-dev)
+# Threads of the simd_tbb and tbb_only renderers.
+rt_require_package(TBB libtbb-dev)
+# SIMD packets with run-time dispatch; 1.0.x API (Debian 12 ships 1.0.3).
+rt_require_package(hwy libhwy-dev)
 
 if(RT_BUILD_TESTS)
   rt_require_package(GTest libgtest-dev)
@@ -40,4 +44,6 @@ set(RT_LIBRARY_VERSIONS
   "glm=${glm_VERSION}"
   "nlohmann_json=${nlohmann_json_VERSION}"
   "CLI11=${CLI11_VERSION}"
-  "stb=${STB_VERSION}")
+  "stb=${STB_VERSION}"
+  "TBB=${TBB_VERSION}"
+  "hwy=${hwy_VERSION}")

@@ -36,6 +36,10 @@ void printSummary(const rt::RunIdentity& id, std::span<const rt::FrameRecord> re
   std::printf("%s  %s  %dx%d  %s  early_exit=%s  %zu frames\n", std::string(rt::nameOf(id.renderer.kind)).c_str(),
               id.scene.c_str(), id.extent.width, id.extent.height, std::string(rt::nameOf(id.options.algorithm)).c_str(),
               id.options.earlyExits.toString().c_str(), render.size());
+  if (!id.renderer.simdTarget.empty() || id.renderer.grain) {
+    std::printf("  threads=%d  lanes=%d  simd_target=%s\n", id.renderer.threads, id.renderer.lanes,
+                id.renderer.simdTarget.empty() ? "-" : id.renderer.simdTarget.c_str());
+  }
   std::printf("  render_ms  median %.3f  min %.3f  max %.3f   (%.2f Mprimary-rays/s)\n", renderMedian,
               *std::ranges::min_element(render), *std::ranges::max_element(render), mrays);
   std::printf("  update_ms  median %.4f   present_ms median %.3f\n", median(update), median(present));
@@ -55,7 +59,7 @@ void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, 
 
 int run(const rt::RunConfig& config) {
   const rt::Scene scene = rt::loadScene(config.scenePath);
-  auto renderer = rt::makeRenderer(config.renderer);
+  auto renderer = rt::makeRenderer(config.renderer, config.parallel);
 
   rt::RunTimes times{std::chrono::system_clock::now(), {}};
   const rt::RunIdentity identity{rt::makeRunId(times.startedAt), scene.name, renderer->info(), config.options,

@@ -68,6 +68,8 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
           {"threads", id.renderer.threads},
           {"lanes", id.renderer.lanes},
           {"simd_target", id.renderer.simdTarget},
+          {"grain", id.renderer.grain ? nlohmann::json(*id.renderer.grain) : nlohmann::json(nullptr)},
+          {"partition", id.renderer.partition ? nlohmann::json(nameOf(*id.renderer.partition)) : nlohmann::json(nullptr)},
           {"algorithm", nameOf(id.options.algorithm)},
           {"early_exit", id.options.earlyExits.toString()},
           {"width", id.extent.width},

@@ -6,12 +6,13 @@
 
 namespace rt {
 
-// Asked for a renderer this build does not have (yet).
+// Asked for a renderer this build or this CPU does not have (exit code 2).
 class RendererUnavailable : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
-std::unique_ptr<Renderer> makeRenderer(RendererKind kind);
+// `settings` matter to the threaded and SIMD renderers only.
+std::unique_ptr<Renderer> makeRenderer(RendererKind kind, const ParallelSettings& settings = {});
 
 }  // namespace rt

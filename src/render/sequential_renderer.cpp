@@ -4,7 +4,7 @@
 
 namespace rt {
 
-RendererInfo SequentialRenderer::info() const { return {RendererKind::sequential, 1, 1, ""}; }
+RendererInfo SequentialRenderer::info() const { return {RendererKind::sequential, 1, 1, "", std::nullopt, std::nullopt}; }
 
 void SequentialRenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
   CPURenderer::prepare(scene, extent, options);
