@@ -200,6 +200,63 @@ std::string parseErrorMessage(const nlohmann::json::parse_error& e, std::string_
          (colon == std::string::npos ? what : what.substr(colon + 2));
 }
 
+// Finds the JSON path of the value the parser failed on. nlohmann rejects a
+// number that overflows to infinity while parsing, before any DOM exists,
+// so the path has to be tracked along the parse.
+class FailurePathTracker final : public nlohmann::json_sax<Json> {
+ public:
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override { return open(false); }
+  bool key(string_t& k) override {
+    levels_.back().key = k;
+    return true;
+  }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(true); }
+  bool end_array() override { return close(); }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    value();  // the failed value occupies the next array slot
+    for (const Level& l : levels_) {
+      if (l.array) {
+        failedPath_.append("[").append(std::to_string(l.index)).append("]");
+      } else {
+        if (!failedPath_.empty()) failedPath_.append(".");
+        failedPath_.append(l.key);
+      }
+    }
+    return false;
+  }
+  [[nodiscard]] const std::string& failedPath() const { return failedPath_; }
+
+ private:
+  struct Level {
+    bool array;
+    long index = -1;
+    std::string key;
+  };
+  bool value() {
+    if (!levels_.empty() && levels_.back().array) ++levels_.back().index;
+    return true;
+  }
+  bool open(bool array) {
+    value();
+    levels_.push_back(Level{array, -1, {}});
+    return true;
+  }
+  bool close() {
+    levels_.pop_back();
+    return true;
+  }
+  std::vector<Level> levels_;
+  std::string failedPath_;
+};
+
 }  // namespace
 
 SceneError::SceneError(const std::string& file, std::string jsonPath, const std::string& reason)
@@ -212,6 +269,10 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName) {
     root = Json::parse(jsonText);
   } catch (const nlohmann::json::parse_error& e) {
     throw SceneError(sourceName, "", parseErrorMessage(e, jsonText));
+  } catch (const nlohmann::json::out_of_range&) {
+    FailurePathTracker tracker;
+    Json::sax_parse(jsonText, &tracker);
+    throw SceneError(sourceName, tracker.failedPath(), "not a finite number");
   }
   ObjectReader r(root, "", sourceName);
   Scene scene;

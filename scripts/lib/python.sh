@@ -1,0 +1,7 @@
+# Sourced by the scripts: the Python that has the project's packages.
+# On Debian that is the system interpreter (apt installs pandas & co. for
+# it), even when another python3 comes first on PATH.
+if [ -z "${RT_PYTHON:-}" ]; then
+  if [ -x /usr/bin/python3 ]; then RT_PYTHON=/usr/bin/python3; else RT_PYTHON=python3; fi
+fi
+export RT_PYTHON

@@ -1,0 +1,107 @@
+#include "app/cli.h"
+
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <vector>
+
+namespace rt {
+namespace {
+
+std::variant<RunConfig, CliExit> parse(std::initializer_list<const char*> args) {
+  std::vector<const char*> argv{"raytracer"};
+  argv.insert(argv.end(), args);
+  return parseCommandLine(static_cast<int>(argv.size()), argv.data());
+}
+
+RunConfig parseOk(std::initializer_list<const char*> args) {
+  auto result = parse(args);
+  if (auto* exit = std::get_if<CliExit>(&result)) {
+    ADD_FAILURE() << "exit " << exit->code << ": " << exit->error;
+    return {};
+  }
+  return std::get<RunConfig>(result);
+}
+
+int exitCode(std::initializer_list<const char*> args) {
+  auto result = parse(args);
+  const auto* exit = std::get_if<CliExit>(&result);
+  return exit == nullptr ? -1 : exit->code;
+}
+
+TEST(Cli, DefaultsAreTheThesisHabit) {
+  const RunConfig c = parseOk({});
+  EXPECT_EQ(c.renderer, RendererKind::sequential);
+  EXPECT_EQ(c.scenePath, "scenes/default.json");
+  EXPECT_EQ(c.extent, (Extent{800, 600}));
+  EXPECT_EQ(c.options.algorithm, Algorithm::single_pass);
+  EXPECT_EQ(c.options.earlyExits, EarlyExitSet::all());
+  EXPECT_FALSE(c.csvPath);
+}
+
+TEST(Cli, RendererFlagAndSceneAsInTheThesis) {
+  const RunConfig c = parseOk({"--sequential", "scenes/random20.json"});
+  EXPECT_EQ(c.renderer, RendererKind::sequential);
+  EXPECT_EQ(c.scenePath, "scenes/random20.json");
+  EXPECT_EQ(parseOk({"--gpu"}).renderer, RendererKind::gpu);
+  EXPECT_EQ(parseOk({"--simd"}).renderer, RendererKind::simd_tbb);
+}
+
+TEST(Cli, StagesSetAlgorithmAndEarlyExits) {
+  const RunConfig original = parseOk({"--stage", "original"});
+  EXPECT_EQ(original.options.algorithm, Algorithm::two_pass);
+  EXPECT_EQ(original.options.earlyExits, EarlyExitSet());
+  const RunConfig single = parseOk({"--stage", "single-pass"});
+  EXPECT_EQ(single.options.algorithm, Algorithm::single_pass);
+  EXPECT_EQ(single.options.earlyExits.toString(), "bounce");
+}
+
+TEST(Cli, AlgorithmAndEarlyExitLists) {
+  const RunConfig c = parseOk({"--algorithm", "two-pass", "--early-exit", "sphere,bounce"});
+  EXPECT_EQ(c.options.algorithm, Algorithm::two_pass);
+  EXPECT_EQ(c.options.earlyExits.toString(), "bounce+sphere");
+  EXPECT_EQ(parseOk({"--early-exit", "none"}).options.earlyExits, EarlyExitSet());
+}
+
+TEST(Cli, SaveFrameAndOutputs) {
+  const RunConfig c = parseOk({"--warmup", "2", "--frames", "3", "--save-frame", "4:/tmp/a.png", "--save-frame",
+                               "0:/tmp/b.png", "--csv", "/tmp/run.csv"});
+  ASSERT_EQ(c.saveFrames.size(), 2u);
+  EXPECT_EQ(c.saveFrames[0].frame, 4);
+  EXPECT_EQ(c.saveFrames[1].file, "/tmp/b.png");
+  EXPECT_EQ(metadataPathFor(c), std::filesystem::path("/tmp/run.meta.json"));
+}
+
+TEST(Cli, BadValuesExitWithTwo) {
+  EXPECT_EQ(exitCode({"--width", "0"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--frames", "many"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--algorithm", "three-pass"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--early-exit", "bounce,sphre"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--stage", "fastest"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--stage", "original", "--algorithm", "single-pass"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--sequential", "--gpu"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--frames", "2", "--warmup", "1", "--save-frame", "3:/tmp/x.png"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--save-frame", "x.png"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--save-frame", "-1:x.png"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--csv", "/nonexistent-dir/run.csv"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--no-such-option"}), kExitBadInput);
+}
+
+TEST(Cli, BadValueMessageCarriesUsage) {
+  auto result = parse({"--width", "-5"});
+  const auto& exit = std::get<CliExit>(result);
+  EXPECT_NE(exit.error.find("--width"), std::string::npos) << exit.error;
+  EXPECT_NE(exit.error.find("Usage"), std::string::npos) << exit.error;
+}
+
+TEST(Cli, HelpAndVersionExitWithZero) {
+  auto help = parse({"--help"});
+  EXPECT_EQ(std::get<CliExit>(help).code, 0);
+  EXPECT_NE(std::get<CliExit>(help).output.find("--early-exit"), std::string::npos);
+  auto version = parse({"--version"});
+  EXPECT_EQ(std::get<CliExit>(version).code, 0);
+  EXPECT_EQ(std::get<CliExit>(version).output.rfind("raytracer ", 0), 0u);
+}
+
+}  // namespace
+}  // namespace rt

@@ -1,0 +1,122 @@
+"""End-to-end checks of the raytracer binary: outputs, schema, exit codes."""
+
+import csv
+import hashlib
+import json
+import subprocess
+
+import pytest
+import rtschema
+
+SMALL = ["--width", "24", "--height", "16", "--warmup", "2", "--frames", "3", "--quiet"]
+
+
+def run(raytracer, *args, cwd=None):
+    return subprocess.run([raytracer, *map(str, args)], capture_output=True, text=True, cwd=cwd)
+
+
+def test_csv_and_metadata_follow_the_schema(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, "--sequential", repo_root / "scenes/random20.json", *SMALL, "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    with csv_path.open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0].keys()) == rtschema.frame_csv_columns()
+    assert [int(r["frame"]) for r in rows] == [0, 1, 2, 3, 4]
+    assert [r["warmup"] for r in rows] == ["1", "1", "0", "0", "0"]
+    assert {r["renderer"] for r in rows} == {"sequential"}
+    assert {r["scene"] for r in rows} == {"random20"}
+    assert all(float(r["render_ms"]) > 0 for r in rows)
+    assert all(r["gpu_ms"] == "" for r in rows)
+
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    assert set(meta) == set(rtschema.run_metadata_keys())
+    assert meta["run_id"] == rows[0]["run_id"]
+    assert meta["schema_version"] == rtschema.schema()["version"]
+    assert meta["scene"]["spheres"] == 20
+    assert meta["scene"]["sha256"] == hashlib.sha256((repo_root / "scenes/random20.json").read_bytes()).hexdigest()
+    assert meta["config"]["measured_frames"] == 3 and meta["config"]["warmup_frames"] == 2
+    assert meta["started_at"].endswith("Z") and "T" in meta["started_at"]
+    assert meta["command_line"][1] == "--sequential"
+    assert not list(tmp_path.glob("*.tmp*")), "temporary files left behind"
+
+
+def test_explicit_meta_path_and_saved_frames(raytracer, repo_root, tmp_path):
+    done = run(raytracer, repo_root / "scenes/default.json", *SMALL, "--meta", tmp_path / "m.json",
+               "--save-frame", f"0:{tmp_path / 'f0.png'}", "--save-frame", f"4:{tmp_path / 'f4.png'}")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "m.json").is_file()
+    for name in ("f0.png", "f4.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert (tmp_path / "f0.png").read_bytes() != (tmp_path / "f4.png").read_bytes()  # the camera orbits
+
+
+def test_summary_is_printed_unless_quiet(raytracer, repo_root):
+    done = run(raytracer, repo_root / "scenes/default.json", "--width", "16", "--height", "8", "--frames", "2")
+    assert done.returncode == 0
+    assert "render_ms" in done.stdout and "median" in done.stdout
+
+
+@pytest.mark.parametrize(
+    "edit, path",
+    [
+        (lambda s: s["spheres"][1].update(radius=-1), "spheres[1].radius"),
+        (lambda s: s["camera"].update(fov=180), "camera.fov"),
+        (lambda s: s.update(extra=1), "extra"),
+        (lambda s: s["render"].update(maxDepth=0), "render.maxDepth"),
+    ],
+)
+def test_bad_scene_exits_2_naming_file_and_field_and_writes_nothing(raytracer, repo_root, tmp_path, edit, path):
+    scene = json.loads((repo_root / "scenes/default.json").read_text())
+    edit(scene)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(scene))
+    out = tmp_path / "out"
+    out.mkdir()
+    done = run(raytracer, bad, *SMALL, "--csv", out / "run.csv", "--save-frame", f"0:{out / 'f.png'}")
+    assert done.returncode == 2
+    assert str(bad) in done.stderr and path in done.stderr
+    assert list(out.iterdir()) == []
+
+
+def test_malformed_json_exits_2(raytracer, tmp_path):
+    bad = tmp_path / "broken.json"
+    bad.write_text('{"camera": [}')
+    done = run(raytracer, bad, *SMALL)
+    assert done.returncode == 2
+    assert "broken.json" in done.stderr and "line 1" in done.stderr
+
+
+def test_missing_scene_file_exits_2(raytracer, tmp_path):
+    done = run(raytracer, tmp_path / "nope.json", *SMALL)
+    assert done.returncode == 2
+    assert "nope.json" in done.stderr
+
+
+@pytest.mark.parametrize("name", [n for n in rtschema.renderer_names() if n != "sequential"])
+def test_renderers_not_built_answer_clearly(raytracer, repo_root, name, tmp_path):
+    flag = rtschema.renderer_flags()[name]
+    done = run(raytracer, flag, repo_root / "scenes/default.json", *SMALL, "--csv", tmp_path / "x.csv")
+    if done.returncode == 0:
+        pytest.skip(f"{name} is built in this binary")
+    assert done.returncode == 2
+    assert name in done.stderr
+    assert not (tmp_path / "x.csv").exists()
+
+
+@pytest.mark.parametrize("args", [["--width", "0"], ["--early-exit", "bogus"], ["--stage", "x"], ["--frames", "-1"]])
+def test_bad_values_exit_2_with_usage(raytracer, args):
+    done = run(raytracer, *args)
+    assert done.returncode == 2
+    assert "Usage" in done.stderr
+
+
+def test_default_scene_is_found_from_the_repository_root(raytracer, repo_root):
+    done = run(raytracer, "--width", "8", "--height", "8", "--frames", "1", "--warmup", "0", "--quiet", cwd=repo_root)
+    assert done.returncode == 0, done.stderr
+
+
+def test_help_and_version(raytracer):
+    assert "--save-frame" in run(raytracer, "--help").stdout
+    version = run(raytracer, "--version")
+    assert version.returncode == 0 and version.stdout.startswith("raytracer ")

@@ -1,0 +1,60 @@
+// The frame loop's per-frame work must not allocate (developers' guide:
+// "the hot loop does no allocation"). This binary replaces the global
+// operator new to count allocations while a frame's phases run.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "app/frame_recorder.h"
+#include "render/sequential_renderer.h"
+#include "scene/camera.h"
+#include "test_support.h"
+
+namespace {
+std::atomic<long> gAllocations{0};
+}
+
+void* operator new(std::size_t size) {
+  gAllocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace rt {
+namespace {
+
+TEST(NoAllocation, FramePhasesOfTheSequentialRenderer) {
+  for (const char* name : test::kSceneNames) {
+    const Scene scene = test::loadNamedScene(name);
+    for (const Stage stage : {Stage::original, Stage::single_pass, Stage::optimized}) {
+      SequentialRenderer renderer;
+      const Extent extent{64, 48};
+      renderer.prepare(scene, extent, optionsForStage(stage));
+      Image presented(extent);
+      FrameRecorder recorder(4);
+      const long before = gAllocations.load();
+      for (long long k = 0; k < 4; ++k) {
+        const CameraFrame camera = cameraAtFrame(scene.camera, k);
+        renderer.render(camera);
+        renderer.present(presented);
+        FrameRecord record;
+        record.frame = k;
+        recorder.record(record);
+      }
+      EXPECT_EQ(gAllocations.load() - before, 0) << name << " stage " << nameOf(stage);
+    }
+  }
+}
+
+TEST(NoAllocation, CounterSeesAllocations) {
+  const long before = gAllocations.load();
+  auto p = std::make_unique<int>(3);
+  EXPECT_GT(gAllocations.load() - before, 0);
+}
+
+}  // namespace
+}  // namespace rt
