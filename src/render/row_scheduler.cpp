@@ -29,7 +29,12 @@ RowScheduler::RowScheduler(int threads, int grain, Partition partition)
       partition_(partition),
       limit_(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads_)),
       arena_(threads_) {
-  arena_.initialize();  // now, not lazily inside the first frame's render()
+  // Start the arena and oneTBB's workers now, not lazily inside the first
+  // frame's render(): that first use allocates, and it would be timed.
+  arena_.initialize();
+  arena_.execute([this] {
+    oneapi::tbb::parallel_for(0, threads_, [](int) {});
+  });
 }
 
 }  // namespace rt
