@@ -145,8 +145,11 @@ HWY_INLINE Vec3x<D> Gather3(D d, const float* x, const float* y, const float* z,
   return {hn::GatherIndex(d, x, i), hn::GatherIndex(d, y, i), hn::GatherIndex(d, z, i)};
 }
 
+// Out of line: the sphere loop is the bulk of the code, and this way it is
+// compiled 4 times per packet width, not once for each of the 16 variants
+// (the call costs nothing next to a loop over the scene's spheres).
 template <bool kSphereExit, bool kDiscriminantExit, class D>
-HWY_INLINE HitX<D> Raycast(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
+HWY_NOINLINE HitX<D> Raycast(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
   VecF<D> bestT, bestIndex;
   NearestSphere<kSphereExit, kDiscriminantExit>(d, s, ray, active, bestT, bestIndex);
   HitX<D> h;
@@ -181,9 +184,10 @@ HWY_INLINE VecF<D> Power(D d, VecF<D> x, float exponent) {
   return hn::IfThenElseZero(x > hn::Zero(d), hn::Exp(d, hn::Set(d, exponent) * hn::Log(d, positive)));
 }
 
-// Phong with one directional light: ambient + diffuse + specular.
+// Phong with one directional light: ambient + diffuse + specular. Out of
+// line for the same reason as Raycast: once per packet width.
 template <class D>
-HWY_INLINE Vec3x<D> LocalColor(D d, const FrameParams& f, const HitX<D>& hit, const Vec3x<D>& direction) {
+HWY_NOINLINE Vec3x<D> LocalColor(D d, const FrameParams& f, const HitX<D>& hit, const Vec3x<D>& direction) {
   const Vec3x<D> l = Broadcast(d, f.toLight);
   const Vec3x<D> lightColor = Broadcast(d, f.lightColor);
   const Vec3x<D>& n = hit.normal;
