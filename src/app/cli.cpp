@@ -123,8 +123,9 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
                        ->check(CLI::IsMember(std::vector<std::string>(schema::kStageNames.begin(),
                                                                       schema::kStageNames.end())));
   stageOpt->excludes(algorithmOpt)->excludes(exitOpt);
-  auto* threadsOpt = app.add_option("--threads", config.parallel.threads, "oneTBB threads (default: all cores)")
-                         ->check(CLI::Range(1, 4096));
+  auto* threadsOpt = app.add_option("--threads", config.parallel.threads, "oneTBB threads")
+                         ->check(CLI::Range(1, 4096))
+                         ->default_str("all cores");
   std::string lanes = "native";
   auto* lanesOpt = app.add_option("--lanes", lanes, "pixels per SIMD packet: native (widest vector)|4|8|16")
                        ->check(CLI::IsMember({"native", "4", "8", "16"}));
