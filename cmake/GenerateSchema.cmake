@@ -40,6 +40,7 @@ function(rt_generate_schema_header json_path header_path)
   string(JSON version GET "${json}" version)
 
   rt_json_names(renderers "${json}" renderers)
+  rt_json_names(phases "${json}" phases)
   rt_json_names(algorithms "${json}" algorithms)
   rt_json_names(early_exits "${json}" early_exits)
   rt_json_names(stages "${json}" stages)
@@ -48,6 +49,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_json_names(meta_keys "${json}" run_metadata)
 
   rt_enum_block(b_renderers RendererKind "${renderers}")
+  rt_enum_block(b_phases Phase "${phases}")
   rt_enum_block(b_algorithms Algorithm "${algorithms}")
   rt_enum_block(b_exits EarlyExit "${early_exits}")
   rt_enum_block(b_stages Stage "${stages}")
@@ -89,7 +91,7 @@ function(rt_generate_schema_header json_path header_path)
 "// Generated from schema/rt_schema.json by cmake/GenerateSchema.cmake. Do not edit.\n\
 #pragma once\n#include <array>\n#include <string_view>\n\nnamespace rt::schema {\n\n\
 inline constexpr int kVersion = ${version};\n\n\
-${b_renderers}${b_algorithms}${b_exits}${b_stages}${b_partitions}${b_columns}${b_meta}\
+${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_stages}${b_partitions}${b_columns}${b_meta}\
 inline constexpr std::array<std::string_view, ${n_renderers}> kRendererFlags{\n${flags}};\n\n\
 struct StageDefinition {\n  Algorithm algorithm;\n  unsigned earlyExitMask;\n};\n\
 inline constexpr std::array<StageDefinition, ${n_stages}> kStageDefinitions{{\n${stage_defs}}};\n\n\

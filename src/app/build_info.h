@@ -11,7 +11,8 @@ struct BuildInfo {
   std::string_view buildType;
   std::string_view compiler;
   std::string_view compilerFlags;
-  std::string_view libraryVersions;  // "name=version;name=version"
+  std::string_view libraryVersions;  // "name=version,name=version"
+  std::string_view tracyClient;      // Tracy client version, empty when not built in
 };
 
 const BuildInfo& buildInfo();

@@ -90,7 +90,8 @@ std::string versionText() {
   const BuildInfo& b = buildInfo();
   std::ostringstream out;
   out << "raytracer " << b.version << " (commit " << b.gitCommit << (b.gitDirty ? ", dirty" : "") << ", "
-      << b.buildType << ", " << b.compiler << ")\n";
+      << b.buildType << ", " << b.compiler << ")\n"
+      << "Tracy client: " << (b.tracyClient.empty() ? "not built in" : b.tracyClient) << "\n";
   return out.str();
 }
 
@@ -141,6 +142,8 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   std::vector<std::string> saveFrames;
   app.add_option("--save-frame", saveFrames, "K:FILE.png: save animation frame K (0 = first warm-up frame)");
   app.add_flag("--quiet,-q", config.quiet, "print nothing but errors");
+  app.add_flag("--tracy-wait", config.tracyWait,
+               "wait for a Tracy viewer (127.0.0.1, port TRACY_PORT or 8086) before the first frame");
   bool version = false;
   app.add_flag("--version", version, "print the version and exit");
 
@@ -155,6 +158,11 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     checkParallelOptionsApply(config.renderer, *threadsOpt, *lanesOpt, *grainOpt, *partitionOpt, config.parallel.threads);
     config.parallel.lanes = lanes == "native" ? ParallelSettings::kNativeLanes : std::stoi(lanes);
     config.parallel.partition = *enumByName<Partition>(schema::kPartitionNames, partition);
+#ifndef TRACY_ENABLE
+    if (config.tracyWait) {
+      throw CLI::ValidationError("--tracy-wait", "this build has no Tracy client (use the 'profile' preset)");
+    }
+#endif
 
     config.options = optionsForStage(Stage::optimized);
     if (!stage.empty()) config.options = optionsForStage(*enumByName<Stage>(schema::kStageNames, stage));

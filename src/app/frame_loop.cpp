@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "core/profiler.h"
 #include "scene/camera.h"
 
 namespace rt {
@@ -12,6 +13,16 @@ using Clock = std::chrono::steady_clock;
 
 double millisecondsBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// Tracy zone names are the schema's phase names, the CSV's <phase>_ms columns.
+constexpr const char* kUpdateZone = schema::kPhaseNames[static_cast<int>(schema::Phase::Update)].data();
+constexpr const char* kRenderZone = schema::kPhaseNames[static_cast<int>(schema::Phase::Render)].data();
+constexpr const char* kPresentZone = schema::kPhaseNames[static_cast<int>(schema::Phase::Present)].data();
+
+void plotFrame([[maybe_unused]] const FrameRecord& r, [[maybe_unused]] Extent extent) {
+  TracyPlot("render_ms", r.renderMs);
+  TracyPlot("Mrays/s", static_cast<double>(extent.pixelCount()) / (r.renderMs * 1e3));
 }
 
 }  // namespace
@@ -26,22 +37,34 @@ FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunCo
   try {
     for (long long k = 0; k < config.totalFrames(); ++k) {
       const auto t0 = Clock::now();
-      const CameraFrame camera = cameraAtFrame(scene.camera, k);
+      const CameraFrame camera = [&] {
+        ZoneScopedN(kUpdateZone);
+        return cameraAtFrame(scene.camera, k);
+      }();
       const auto t1 = Clock::now();
-      renderer.render(camera);
+      {
+        ZoneScopedN(kRenderZone);
+        renderer.render(camera);
+      }
       const auto t2 = Clock::now();
-      renderer.present(presented);
+      {
+        ZoneScopedN(kPresentZone);
+        renderer.present(presented);
+      }
       const auto t3 = Clock::now();
 
       for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
         if (config.saveFrames[i].frame == k) std::ranges::copy(presented.pixels(), result.savedFrames[i].pixels().begin());
       }
-      recorder.record({.frame = k,
-                       .warmup = k < config.warmupFrames,
-                       .updateMs = millisecondsBetween(t0, t1),
-                       .renderMs = millisecondsBetween(t1, t2),
-                       .presentMs = millisecondsBetween(t2, t3),
-                       .gpuMs = std::nullopt});
+      const FrameRecord record{.frame = k,
+                               .warmup = k < config.warmupFrames,
+                               .updateMs = millisecondsBetween(t0, t1),
+                               .renderMs = millisecondsBetween(t1, t2),
+                               .presentMs = millisecondsBetween(t2, t3),
+                               .gpuMs = std::nullopt};
+      recorder.record(record);
+      plotFrame(record, config.extent);
+      FrameMark;
     }
   } catch (...) {
     result.failure = std::current_exception();

@@ -1,7 +1,10 @@
 // raytracer: loads a scene, runs the frame loop with the chosen renderer,
 // then writes the per-frame CSV, the metadata sidecar and saved frames.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <thread>
 #include <iostream>
 #include <vector>
 
@@ -9,6 +12,7 @@
 #include "app/frame_loop.h"
 #include "app/run_metadata.h"
 #include "core/atomic_file.h"
+#include "core/profiler.h"
 #include "render/renderer_factory.h"
 #include "scene/scene_loader.h"
 
@@ -57,6 +61,21 @@ void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, 
   }
 }
 
+// Blocks until a Tracy viewer is connected, so the capture holds every frame.
+void waitForTracyViewer() {
+  const char* port = std::getenv("TRACY_PORT");
+  std::fprintf(stderr, "raytracer: waiting for a Tracy viewer on 127.0.0.1:%s ...\n", port != nullptr ? port : "8086");
+  while (!TracyIsConnected) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+}
+
+std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) {
+  return std::string(rt::nameOf(id.renderer.kind)) + " scene=" + id.scene + " " + std::to_string(id.extent.width) + "x" +
+         std::to_string(id.extent.height) + " threads=" + std::to_string(id.renderer.threads) +
+         " lanes=" + std::to_string(id.renderer.lanes) + " target=" + id.renderer.simdTarget +
+         " algorithm=" + std::string(rt::nameOf(id.options.algorithm)) + " early_exit=" + id.options.earlyExits.toString() +
+         " frames=" + std::to_string(config.warmupFrames) + "+" + std::to_string(config.measuredFrames);
+}
+
 int run(const rt::RunConfig& config) {
   const rt::Scene scene = rt::loadScene(config.scenePath);
   auto renderer = rt::makeRenderer(config.renderer, config.parallel);
@@ -64,6 +83,9 @@ int run(const rt::RunConfig& config) {
   rt::RunTimes times{std::chrono::system_clock::now(), {}};
   const rt::RunIdentity identity{rt::makeRunId(times.startedAt), scene.name, renderer->info(), config.options,
                                  config.extent};
+  if (config.tracyWait) waitForTracyViewer();
+  [[maybe_unused]] const std::string description = describeRun(identity, config);
+  TracyMessage(description.data(), description.size());
   const rt::FrameLoopResult result = rt::runFrameLoop(*renderer, scene, config);
   times.finishedAt = std::chrono::system_clock::now();
 

@@ -28,6 +28,7 @@ struct RunConfig {
   std::optional<std::filesystem::path> metaPath;
   std::vector<SaveFrameRequest> saveFrames;
   bool quiet = false;
+  bool tracyWait = false;  // wait for a Tracy viewer before the first frame
   std::vector<std::string> commandLine;
 
   [[nodiscard]] long long totalFrames() const { return static_cast<long long>(warmupFrames) + measuredFrames; }
