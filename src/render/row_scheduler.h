@@ -10,6 +10,7 @@
 #include <algorithm>
 
 #include "core/image.h"
+#include "core/profiler.h"
 #include "render/render_options.h"
 
 namespace rt {
@@ -65,6 +66,7 @@ template <typename Body>
 void RowScheduler::forEachRow(Extent extent, const Body& body) {
   oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int>(0, extent.height, grain_),
                             [&](const oneapi::tbb::blocked_range<int>& rows) {
+                              ZoneScopedN("rows");  // one zone per oneTBB chunk, never per ray
                               const int slot = oneapi::tbb::this_task_arena::current_thread_index();
                               for (int y = rows.begin(); y < rows.end(); ++y) body(slot, y, 0, extent.width);
                             });
@@ -76,6 +78,7 @@ void RowScheduler::forEachTile(Extent extent, int alignment, const Body& body) {
   const int columns = (extent.width + tileWidth - 1) / tileWidth;
   using Range = oneapi::tbb::blocked_range2d<int>;
   oneapi::tbb::parallel_for(Range(0, extent.height, grain_, 0, columns, 1), [&](const Range& tiles) {
+    ZoneScopedN("tiles");
     const int slot = oneapi::tbb::this_task_arena::current_thread_index();
     for (int y = tiles.rows().begin(); y < tiles.rows().end(); ++y) {
       for (int c = tiles.cols().begin(); c < tiles.cols().end(); ++c) {
