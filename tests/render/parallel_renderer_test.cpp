@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <type_traits>
 #include <vector>
 
 #include "render/render_test_support.h"
@@ -63,6 +64,9 @@ TEST(Threads, SimdTbbEqualsSimdOnlyAndTbbOnlyEqualsSequential) {
                                  test::renderFrame(sequential, scene, kOdd, options, kFrame).pixels()));
 }
 
+// main() answers RendererUnavailable with exit code 2, the lanes error included.
+static_assert(std::is_base_of_v<RendererUnavailable, LanesUnsupported>);
+
 // --lanes 4/8/16 exist exactly where the target's vectors hold that many floats.
 TEST(Lanes, FollowTheTargetOnEveryTarget) {
   for (const std::int64_t target : simd::availableTargets()) {
@@ -79,6 +83,8 @@ TEST(Lanes, FollowTheTargetOnEveryTarget) {
       }
     }
   }
+  // The override is lifted again: dispatch is back to the best target.
+  EXPECT_EQ(simd::dispatchedKernels().target, simd::availableTargets().front());
 }
 
 TEST(Lanes, NativeIsTheBestTargetsWidth) {
