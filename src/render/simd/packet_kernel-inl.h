@@ -62,7 +62,7 @@ struct HitX {
 // ---- Vec3x arithmetic: the same evaluation order as glm's ---------------
 
 template <class D>
-HWY_INLINE Vec3x<D> Broadcast(D d, const float (&v)[3]) {
+HWY_INLINE Vec3x<D> Broadcast(D d, const Float3& v) {
   return {hn::Set(d, v[0]), hn::Set(d, v[1]), hn::Set(d, v[2])};
 }
 template <class D>

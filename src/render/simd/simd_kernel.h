@@ -3,6 +3,7 @@
 // the factory and the tests include it without compiling per target. The
 // kernel itself (packet_kernel-inl.h) is compiled once per Highway target in
 // simd_kernel.cc and reached through one dynamic dispatch per renderer.
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -26,18 +27,20 @@ struct SphereArrays {
   int count = 0;
 };
 
+using Float3 = std::array<float, 3>;
+
 // Everything one frame's kernel calls read; built once per frame.
 struct FrameParams {
   SphereArrays spheres;
-  float cameraPosition[3];
-  float forward[3];
-  float right[3];
-  float up[3];
+  Float3 cameraPosition;
+  Float3 forward;
+  Float3 right;
+  Float3 up;
   float tanHalfFov;
-  float toLight[3];  // -directionalLightDirection
-  float lightColor[3];
-  float ambientColor[3];
-  float background[3];
+  Float3 toLight;  // -directionalLightDirection
+  Float3 lightColor;
+  Float3 ambientColor;
+  Float3 background;
   float reflectivity;
   float shininess;
   float specularStrength;

@@ -7,11 +7,7 @@
 namespace rt {
 namespace {
 
-void copy3(float (&out)[3], const glm::vec3& v) {
-  out[0] = v.x;
-  out[1] = v.y;
-  out[2] = v.z;
-}
+simd::Float3 float3(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
 // --lanes: 0 (native) or exactly 4, 8 or 16 lanes if the target has them.
 simd::LaneKernels selectLanes(const simd::TargetKernels& target, int lanes) {
@@ -94,15 +90,15 @@ simd::FrameParams SIMDRenderer::frameParams(const CameraFrame& camera) {
   const Scene& s = scene();
   simd::FrameParams f{};
   f.spheres = spheres_;
-  copy3(f.cameraPosition, camera.position);
-  copy3(f.forward, camera.forward);
-  copy3(f.right, camera.right);
-  copy3(f.up, camera.up);
+  f.cameraPosition = float3(camera.position);
+  f.forward = float3(camera.forward);
+  f.right = float3(camera.right);
+  f.up = float3(camera.up);
   f.tanHalfFov = camera.tanHalfFov;
-  copy3(f.toLight, -s.lightData.directionalLightDirection);
-  copy3(f.lightColor, s.lightData.directionalLightColor);
-  copy3(f.ambientColor, s.lightData.ambientLightColor);
-  copy3(f.background, s.render.background);
+  f.toLight = float3(-s.lightData.directionalLightDirection);
+  f.lightColor = float3(s.lightData.directionalLightColor);
+  f.ambientColor = float3(s.lightData.ambientLightColor);
+  f.background = float3(s.render.background);
   f.reflectivity = s.render.reflectivity;
   f.shininess = s.render.shininess;
   f.specularStrength = s.render.specularStrength;
