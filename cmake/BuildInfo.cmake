@@ -17,4 +17,12 @@ if(GIT_FOUND)
     endif()
   endif()
 endif()
+# A source tree without git metadata (the Nix flake builds from a copy in
+# the store) may name its commit in the environment instead.
+if(RT_GIT_COMMIT STREQUAL "unknown" AND DEFINED ENV{RT_GIT_COMMIT})
+  set(RT_GIT_COMMIT "$ENV{RT_GIT_COMMIT}")
+  if("$ENV{RT_GIT_DIRTY}" STREQUAL "true")
+    set(RT_GIT_DIRTY "true")
+  endif()
+endif()
 configure_file("${TEMPLATE}" "${OUTPUT}" @ONLY)

@@ -6,7 +6,9 @@
 # empty, from scripts/fetch-tracy-client (Tracy 0.14.1 via cargo).
 
 option(RT_TRACY "Build with the Tracy profiler client" OFF)
-set(RT_TRACY_CLIENT_DIR "" CACHE PATH "Directory holding Tracy's TracyClient.cpp; fetched when empty")
+# The environment variable of the same name gives the default (the Nix dev
+# shell sets it to nixpkgs' Tracy client).
+set(RT_TRACY_CLIENT_DIR "$ENV{RT_TRACY_CLIENT_DIR}" CACHE PATH "Directory holding Tracy's TracyClient.cpp; fetched when empty")
 
 add_library(rt_tracy INTERFACE)
 if(NOT RT_TRACY)

@@ -190,7 +190,9 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   } catch (const CLI::CallForHelp&) {
     return CliExit{0, app.help(), ""};
   } catch (const CLI::ParseError& e) {
-    return CliExit{kExitBadInput, "", std::string("raytracer: ") + e.what() + "\n\n" + app.help()};
+    // The message goes last, after the usage: whoever keeps only the tail
+    // of stderr (the bench runner) or its last line still sees the reason.
+    return CliExit{kExitBadInput, "", app.help() + "\nraytracer: " + e.what() + "\n"};
   }
   return config;
 }

@@ -37,9 +37,7 @@ void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id,
     case FrameCsvColumn::threads: return appendText(out, std::to_string(id.renderer.threads));
     case FrameCsvColumn::lanes: return appendText(out, std::to_string(id.renderer.lanes));
     case FrameCsvColumn::simd_target: return appendText(out, id.renderer.simdTarget);
-    case FrameCsvColumn::grain:
-      if (id.renderer.grain) appendText(out, std::to_string(*id.renderer.grain));
-      return;
+    case FrameCsvColumn::grain: return appendText(out, std::to_string(id.renderer.grain.value_or(0)));
     case FrameCsvColumn::partition:
       if (id.renderer.partition) appendText(out, nameOf(*id.renderer.partition));
       return;

@@ -2,6 +2,7 @@
 
 #include <sys/utsname.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -57,10 +58,20 @@ nlohmann::json libraryVersions() {
   return libs;
 }
 
+// The Nix flake's package and apps set RT_NIX=1 and RT_NIXPKGS_REV (the
+// nixpkgs revision that fixed compiler and libraries); null elsewhere.
+nlohmann::json nixJson() {
+  const char* nix = std::getenv("RT_NIX");
+  if (nix == nullptr || std::string_view(nix) != "1") return nullptr;
+  const char* rev = std::getenv("RT_NIXPKGS_REV");
+  return {{"nixpkgs_rev", rev != nullptr && *rev != '\0' ? rev : "unknown"}};
+}
+
 nlohmann::json buildJson() {
   const BuildInfo& b = buildInfo();
   return {{"version", b.version},         {"git_commit", b.gitCommit}, {"git_dirty", b.gitDirty},
-          {"build_type", b.buildType},    {"compiler", b.compiler},    {"compiler_flags", b.compilerFlags}};
+          {"build_type", b.buildType},    {"compiler", b.compiler},    {"compiler_flags", b.compilerFlags},
+          {"nix", nixJson()}};
 }
 
 nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
@@ -68,8 +79,8 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
           {"threads", id.renderer.threads},
           {"lanes", id.renderer.lanes},
           {"simd_target", id.renderer.simdTarget},
-          {"grain", id.renderer.grain ? nlohmann::json(*id.renderer.grain) : nlohmann::json(nullptr)},
-          {"partition", id.renderer.partition ? nlohmann::json(nameOf(*id.renderer.partition)) : nlohmann::json(nullptr)},
+          {"grain", id.renderer.grain.value_or(0)},  // as in the CSV: 0 and "" without oneTBB
+          {"partition", id.renderer.partition ? nameOf(*id.renderer.partition) : ""},
           {"algorithm", nameOf(id.options.algorithm)},
           {"early_exit", id.options.earlyExits.toString()},
           {"width", id.extent.width},

@@ -98,7 +98,7 @@ std::string field(const std::vector<std::string>& row, schema::FrameCsvColumn c)
   return row.at(static_cast<std::size_t>(c));
 }
 
-TEST(ParallelOptions, GrainAndPartitionColumnsFilledOnlyForOneTbb) {
+TEST(ParallelOptions, GrainAndPartitionColumnsDescribeOneTbbRuns) {
   const std::vector<FrameRecord> one{FrameRecord{}};
   const auto identity = [](RendererInfo renderer) {
     return RunIdentity{"run", "random100", std::move(renderer), optionsForStage(Stage::optimized), {800, 600}};
@@ -111,7 +111,7 @@ TEST(ParallelOptions, GrainAndPartitionColumnsFilledOnlyForOneTbb) {
   EXPECT_EQ(field(row, schema::FrameCsvColumn::partition), "tiles");
 
   row = csvRow(formatFrameCsv(identity({RendererKind::simd_only, 1, 4, "AVX2", std::nullopt, std::nullopt}), one), 1);
-  EXPECT_EQ(field(row, schema::FrameCsvColumn::grain), "");
+  EXPECT_EQ(field(row, schema::FrameCsvColumn::grain), "0");
   EXPECT_EQ(field(row, schema::FrameCsvColumn::partition), "");
 }
 

@@ -35,7 +35,7 @@ def test_csv_and_metadata_describe_the_renderer(raytracer, repo_root, tmp_path, 
     rows = read_csv(csv_path)
     assert {r["renderer"] for r in rows} == {renderer}
     assert {r["threads"] for r in rows} == {threads}
-    assert {r["grain"] for r in rows} == ({"3"} if tbb else {""})
+    assert {r["grain"] for r in rows} == ({"3"} if tbb else {"0"})
     assert {r["partition"] for r in rows} == ({"tiles"} if tbb else {""})
     lanes = {r["lanes"] for r in rows}
     target = {r["simd_target"] for r in rows}
@@ -47,7 +47,8 @@ def test_csv_and_metadata_describe_the_renderer(raytracer, repo_root, tmp_path, 
 
     meta = json.loads((tmp_path / "run.meta.json").read_text())
     assert meta["config"]["renderer"] == renderer
-    assert meta["config"]["grain"] == (3 if tbb else None)
+    assert meta["config"]["grain"] == (3 if tbb else 0)
+    assert meta["config"]["partition"] == ("tiles" if tbb else "")
     assert {"TBB", "hwy"} <= set(meta["libraries"])
 
 

@@ -1,0 +1,273 @@
+"""Runs a benchmark profile: every configuration as its own raytracer process,
+renderers interleaved across repetitions, results in runs/<UTC time>-<profile>/,
+then a report of that run.
+
+    scripts/bench                      # the `paper` profile on its scenes
+    scripts/bench random100            # the `paper` profile on scenes/random100.json
+    scripts/bench --profile quick      # seconds; what the tests run
+    scripts/bench --profile scaling random100 --no-report
+
+A scene given by name means scenes/NAME.json; a path works too. The release
+binary (or the profile's preset) is built first unless --binary names one.
+Renderers this binary does not have are reported and skipped; a failing
+configuration is reported and the others still run; Ctrl-C keeps every
+finished run and writes the manifest.
+
+Exit status: 0 all runs finished (skipped renderers aside), 1 a run failed
+or nothing ran, 2 bad arguments or profile, 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from rtbench import names, noise, profiles, runner
+from rtbench.profiles import ProfileError
+
+REPORT_SCRIPT = names.REPO_ROOT / "scripts" / "report.py"
+
+
+def default_runs_dir() -> Path:
+    return names.REPO_ROOT / "runs" if os.access(names.REPO_ROOT, os.W_OK) else Path.cwd() / "runs"
+
+
+def binary_from_environment(preset: str) -> Path | None:
+    """A prebuilt binary handed over by the environment (the Nix apps do)."""
+    value = os.environ.get("RT_BINARY_PAPER_O0" if preset == "paper-o0" else "RT_BINARY")
+    return Path(value) if value else None
+
+
+def parse_args(argv: list[str] | None) -> argparse.Namespace:
+    p = argparse.ArgumentParser(prog="bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or files (default: the profile's scenes)")
+    p.add_argument("-p", "--profile", default="paper", help="profile name (profiles/NAME.toml) or file; default paper")
+    p.add_argument("--binary", type=Path,
+                   help="use this raytracer binary, build nothing (default: $RT_BINARY, or $RT_BINARY_PAPER_O0 "
+                        "for a paper-o0 profile, when set, as under Nix)")
+    p.add_argument("--preset", help="CMake preset to build (default: the profile's, usually release)")
+    p.add_argument("--renderer", action="append", dest="renderers", metavar="NAME", choices=names.RENDERERS,
+                   help="only this renderer (repeatable)")
+    for key in ("width", "height", "warmup", "frames", "repetitions"):
+        p.add_argument(f"--{key}", type=int, metavar="N", help=f"override the profile's {key}")
+    p.add_argument("--runs-dir", type=Path, default=default_runs_dir(),
+                   help="where run directories go (default: runs/ in the repository, or in the current directory "
+                        "when the repository is read-only, as in the Nix store)")
+    p.add_argument("--report-dir", type=Path, help="report output (default: RUN_DIR/report)")
+    p.add_argument("--no-report", action="store_true", help="do not call scripts/report.py at the end")
+    p.add_argument("--dry-run", action="store_true", help="print the schedule and exit")
+    p.add_argument("--plain", action="store_true", help="plain progress lines even on a terminal")
+    p.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1, help="build parallelism (default: all cores)")
+    args = p.parse_args(argv)
+    for key in ("width", "height", "frames", "repetitions"):
+        if getattr(args, key) is not None and getattr(args, key) < 1:
+            p.error(f"--{key} must be at least 1")
+    if args.warmup is not None and args.warmup < 0:
+        p.error("--warmup must not be negative")
+    return args
+
+
+def plan(args: argparse.Namespace) -> tuple[profiles.Profile, list[profiles.Config], list[tuple[int, profiles.Config]]]:
+    """The profile, its configurations and the run order, with the command
+    line's scenes, renderer filter and overrides applied."""
+    profile = profiles.load_profile(args.profile)
+    scenes = [profiles.resolve_scene(s) for s in (args.scenes or profile.scenes)]
+    forced = {k: getattr(args, k) for k in ("width", "height", "warmup", "frames") if getattr(args, k) is not None}
+    configs = profiles.expand(profile, scenes, os.cpu_count() or 1, args.renderers, forced)
+    if not configs:
+        raise ProfileError(f"{profile.path}: no configuration left (renderer filter {args.renderers})")
+    repetitions = args.repetitions or profile.repetitions
+    order = profiles.schedule(configs, repetitions, profile.interleave, profile.seed)
+    return profile, configs, order
+
+
+class PlainObserver(runner.Observer):
+    """One line per finished run, with an ETA from the mean duration so far:
+    for logs and CI, where a live bar would be noise."""
+
+    def __init__(self, stream=sys.stdout):
+        self.stream, self.t0 = stream, time.monotonic()
+
+    def finished(self, record, done, total):
+        eta = (time.monotonic() - self.t0) / done * (total - done)
+        print(f"[{done:>{len(str(total))}}/{total}] {_line(record)}  ETA {_clock(eta)}", file=self.stream, flush=True)
+
+
+class RichObserver(runner.Observer):
+    """A live progress bar (run i/n, renderer, ETA) with finished runs above it."""
+
+    def __init__(self, total: int):
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+        self.progress = Progress(TextColumn("run"), MofNCompleteColumn(), BarColumn(),
+                                 TextColumn("{task.description}"), TimeElapsedColumn(), TextColumn("ETA"),
+                                 TimeRemainingColumn())
+        self.task = self.progress.add_task("", total=total)
+        self.progress.start()
+
+    def started(self, record, done, total):
+        self.progress.update(self.task, description=f"{record.renderer}: {record.config} r{record.repetition}")
+
+    def finished(self, record, done, total):
+        style = "green" if record.status == runner.OK else "red"
+        text = _line(record)
+        self.progress.console.print(f"[{style}]{text[:11]}[/]{text[11:]}", highlight=False)
+        self.progress.update(self.task, completed=done)
+
+    def close(self):
+        self.progress.stop()
+
+
+def _line(record: runner.RunRecord) -> str:
+    text = f"{record.status:<11} {record.config} r{record.repetition}  {record.seconds or 0:.2f} s"
+    if record.status != runner.OK and record.stderr_tail:
+        text += f"  ({record.stderr_tail.splitlines()[-1][:160]})"
+    return text
+
+
+def _clock(seconds: float) -> str:
+    s = int(round(seconds))
+    return f"{s // 3600}:{s % 3600 // 60:02d}:{s % 60:02d}"
+
+
+def mark_unavailable(manifest: runner.Manifest, binary: Path, cwd: Path, out) -> None:
+    """Probes each renderer once; the runs of one the binary cannot run are
+    marked unavailable with its reason instead of failing one by one."""
+    first_scene = {}
+    for c in manifest.configs:
+        first_scene.setdefault(c.renderer, c.scene_path)
+    for renderer, scene in first_scene.items():
+        reason = runner.probe_renderer(binary, renderer, scene, cwd)
+        if reason is None:
+            continue
+        print(f"bench: skipping {renderer}: {reason.splitlines()[-1] if reason else ''}", file=out)
+        for r in manifest.runs:
+            if r.renderer == renderer:
+                r.status, r.stderr_tail = runner.UNAVAILABLE, reason
+
+
+def machine_warnings() -> list[str]:
+    cores = os.cpu_count() or 1
+    return noise.governor_warnings(noise.read_governors()) + noise.load_warnings(noise.read_load_average(), cores)
+
+
+def spread_warnings(run_dir: Path) -> list[str]:
+    """After the runs: configurations whose repetitions disagree."""
+    from rtbench import load, stats
+
+    try:
+        summary = stats.summarize_configs(load.load_runs([run_dir]))
+    except load.RunDataError as e:
+        return [f"could not check the spread between repetitions: {e}"]
+    spreads = {stats.config_label(r): r["rep_spread"] for _, r in summary.iterrows()}
+    return noise.spread_warnings(spreads)
+
+
+def run_report(run_dir: Path, report_dir: Path) -> int:
+    """Calls scripts/report.py with this interpreter, as a person would."""
+    return subprocess.run([sys.executable, str(REPORT_SCRIPT), str(run_dir), "-o", str(report_dir)]).returncode
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_args(argv)
+    args.command_line = ["bench", *(sys.argv[1:] if argv is None else argv)]
+    try:
+        profile, configs, order = plan(args)
+    except ProfileError as e:
+        print(f"bench: {e}", file=sys.stderr)
+        return 2
+    if args.dry_run:
+        for i, (rep, c) in enumerate(order, 1):
+            print(f"{i:4} r{rep} {c.id}: {' '.join(c.argv(Path('raytracer'), Path('X.csv'), Path('X.meta.json'))[1:-5])}")
+        return 0
+    binary = resolve_binary(args, profile)
+    if binary is None:
+        return 1
+    return run_profile(args, profile, configs, order, binary)
+
+
+def resolve_binary(args: argparse.Namespace, profile: profiles.Profile) -> Path | None:
+    preset = args.preset or profile.preset
+    given = args.binary or binary_from_environment(preset)
+    if given:
+        if not given.is_file():
+            print(f"bench: binary {given}: no such file", file=sys.stderr)
+            return None
+        return given.resolve()
+    print(f"bench: building preset {preset} (-j{args.jobs})", flush=True)
+    try:
+        return runner.build(preset, names.REPO_ROOT, args.jobs)
+    except runner.BuildError as e:
+        print(f"bench: {e}", file=sys.stderr)
+        return None
+
+
+def run_profile(args, profile, configs, order, binary: Path) -> int:
+    """Runs the schedule into a new run directory and reports on it."""
+    run_dir = runner.make_run_dir(args.runs_dir, profile.name)
+    manifest = runner.Manifest(profile, configs, runner.plan_runs(order, binary, run_dir), str(binary),
+                               args.command_line, runner.host_info(),
+                               machine_warnings(), started_at=runner.utc_now())
+    for w in manifest.warnings:
+        print(f"bench: warning: {w}", file=sys.stderr)
+    print(f"bench: profile {profile.name}: {len(configs)} configurations x {len(order) // len(configs)} "
+          f"repetitions = {len(order)} runs -> {run_dir}", flush=True)
+    runner.write_manifest(run_dir, manifest)
+    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    try:
+        try:
+            mark_unavailable(manifest, binary, names.REPO_ROOT, sys.stderr)
+        except KeyboardInterrupt:
+            manifest.status, manifest.finished_at = runner.INTERRUPTED, runner.utc_now()
+            runner.write_manifest(run_dir, manifest)
+            completed = False
+        else:
+            completed = _execute(args, manifest, run_dir, profile.timeout_s)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    return finish(args, manifest, run_dir, completed)
+
+
+def _raise_interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
+def _execute(args, manifest: runner.Manifest, run_dir: Path, timeout: float) -> bool:
+    pending = sum(r.status == runner.PENDING for r in manifest.runs)
+    rich_ok = sys.stdout.isatty() and not args.plain and not os.environ.get("CI")
+    observer = RichObserver(pending) if rich_ok and pending else PlainObserver()
+    try:
+        return runner.execute(manifest, run_dir, names.REPO_ROOT, timeout, observer)
+    finally:
+        if isinstance(observer, RichObserver):
+            observer.close()
+
+
+def finish(args, manifest: runner.Manifest, run_dir: Path, completed: bool) -> int:
+    """Warnings, the summary line, the report, the exit status."""
+    counts = manifest.counts()
+    if counts.get(runner.OK):
+        # Printed, not stored: the report recomputes them from the data.
+        for w in spread_warnings(run_dir):
+            print(f"bench: warning: {w}", file=sys.stderr)
+    print(f"bench: {', '.join(f'{n} {k}' for k, n in sorted(counts.items()))} -> {run_dir}")
+    if not completed:
+        print(f"bench: interrupted; finished runs kept. Report them with: scripts/report.py {run_dir}", file=sys.stderr)
+        return 130
+    if counts.get(runner.OK) and not args.no_report:
+        if run_report(run_dir, args.report_dir or run_dir / "report") != 0:
+            return 1
+    return 1 if counts.get(runner.FAILED) or not counts.get(runner.OK) else 0
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main())
+    except BrokenPipeError:  # e.g. `scripts/bench --dry-run | head`
+        sys.stderr.close()
+        sys.exit(0)

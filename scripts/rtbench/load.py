@@ -1,0 +1,257 @@
+"""Run directories -> one tidy pandas DataFrame (one row per frame).
+
+Every CSV is checked strictly against the schema before it is used: a file
+that is truncated, corrupted or does not match its metadata sidecar stops
+the report with an error naming the file (and the line), instead of quietly
+becoming a wrong median.
+
+Layout written by the bench runner (scripts/bench):
+
+    RUN_DIR/manifest.json                  configurations, runs, status
+    RUN_DIR/frames/<config>-r<rep>.csv     the raytracer's per-frame CSV
+    RUN_DIR/frames/<config>-r<rep>.meta.json   its metadata sidecar
+
+A directory without a manifest (CSVs written by hand with --csv) loads too:
+every *.csv below it with its .meta.json beside it.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import pandas as pd
+
+from rtbench import names
+
+MANIFEST = "manifest.json"
+FRAMES_DIR = "frames"
+META_SUFFIX = ".meta.json"
+OK = "ok"
+
+
+class RunDataError(ValueError):
+    """Input that cannot be trusted; the message starts with the file's path."""
+
+
+def meta_path_for(csv_path: Path) -> Path:
+    """The sidecar the raytracer writes by default: FILE.csv -> FILE.meta.json."""
+    return csv_path.with_name(csv_path.stem + META_SUFFIX)
+
+
+# --- one file ------------------------------------------------------------------
+
+def read_frame_csv(path: Path) -> dict[str, list]:
+    """Reads a frame CSV into columns, converting each by its schema type."""
+    try:
+        with path.open(newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(f))
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        raise RunDataError(f"{path}: cannot read: {e}") from None
+    if not rows:
+        raise RunDataError(f"{path}: empty file (no header, no frames)")
+    _check_header(path, rows[0])
+    if len(rows) == 1:
+        raise RunDataError(f"{path}: header only, no frames (truncated?)")
+    columns: dict[str, list] = {c: [] for c in names.CSV_COLUMNS}
+    for lineno, row in enumerate(rows[1:], start=2):
+        if len(row) != len(names.CSV_COLUMNS):
+            raise RunDataError(
+                f"{path}: line {lineno}: {len(row)} fields, expected {len(names.CSV_COLUMNS)} (truncated or corrupted?)"
+            )
+        for column, text in zip(names.CSV_COLUMNS, row):
+            columns[column].append(_convert(path, lineno, column, text))
+    _check_values(path, columns)
+    return columns
+
+
+def _check_header(path: Path, header: list[str]) -> None:
+    if header == names.CSV_COLUMNS:
+        return
+    missing = [c for c in names.CSV_COLUMNS if c not in header]
+    extra = [c for c in header if c not in names.CSV_COLUMNS]
+    detail = []
+    if missing:
+        detail.append(f"missing {', '.join(missing)}")
+    if extra:
+        detail.append(f"unexpected {', '.join(extra)}")
+    if not detail:
+        detail.append("columns out of order")
+    raise RunDataError(f"{path}: header does not match the schema's frame_csv ({'; '.join(detail)})")
+
+
+def _convert(path: Path, lineno: int, column: str, text: str):
+    kind = names.COLUMN_TYPES[column]
+    try:
+        if kind == "int":
+            return int(text)
+        if kind == "float":
+            if text == "":
+                return math.nan
+            value = float(text)
+            if not math.isfinite(value):
+                raise ValueError
+            return value
+    except ValueError:
+        raise RunDataError(f"{path}: line {lineno}: column {column}: {text!r} is not a valid {kind}") from None
+    return text
+
+
+def _check_values(path: Path, columns: dict[str, list]) -> None:
+    """Values the schema constrains: names, flags, frame numbering, and float
+    columns that are either measured in every frame or in none."""
+    _check_members(path, names.RENDERER, columns[names.RENDERER], names.RENDERERS)
+    _check_members(path, names.ALGORITHM, columns[names.ALGORITHM], names.ALGORITHMS)
+    for text in set(columns[names.EARLY_EXIT]):
+        bad = names.parse_early_exits(text) - set(names.EARLY_EXITS)
+        if bad:
+            raise RunDataError(f"{path}: column {names.EARLY_EXIT}: unknown early exit {sorted(bad)[0]!r}")
+    _check_members(path, names.WARMUP, columns[names.WARMUP], [0, 1])
+    if len(set(columns[names.RUN_ID])) != 1:
+        raise RunDataError(f"{path}: more than one {names.RUN_ID} in one file")
+    if columns[names.FRAME] != list(range(len(columns[names.FRAME]))):
+        raise RunDataError(f"{path}: frames are not numbered 0..{len(columns[names.FRAME]) - 1} (rows lost?)")
+    for column, kind in names.COLUMN_TYPES.items():
+        if kind == "float":
+            empty = sum(math.isnan(v) for v in columns[column])
+            if 0 < empty < len(columns[column]):
+                raise RunDataError(f"{path}: column {column} is empty in {empty} of {len(columns[column])} frames")
+
+
+def _check_members(path: Path, column: str, values: list, allowed: list) -> None:
+    bad = sorted({v for v in values if v not in allowed}, key=str)
+    if bad:
+        raise RunDataError(f"{path}: column {column}: unknown value {bad[0]!r} (expected one of {allowed})")
+
+
+def read_metadata(path: Path) -> dict:
+    """The metadata sidecar as a dict, with an error naming the file."""
+    try:
+        meta = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise RunDataError(f"{path}: metadata sidecar missing") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise RunDataError(f"{path}: not valid JSON: {e}") from None
+    if not isinstance(meta, dict) or not isinstance(meta.get(names.META_CONFIG), dict):
+        raise RunDataError(f"{path}: no '{names.META_CONFIG}' object")
+    return meta
+
+
+# Where a GPU run's metadata may name its device: the GPU renderer (issue 4)
+# records "device name, type, driver ..."; its key is not in the schema yet,
+# so these spellings are all accepted, at the top level or inside `config`.
+DEVICE_HOLDERS = ("device", "gpu", "vulkan")
+DEVICE_NAME_KEYS = ("name", "device_name", "deviceName")
+
+
+def device_name(meta: dict) -> str:
+    """The GPU's name where the metadata records one; empty otherwise."""
+    for holder in (meta, meta.get(names.META_CONFIG, {})):
+        for key in DEVICE_HOLDERS:
+            value = holder.get(key)
+            if isinstance(value, str) and value:
+                return value
+            if isinstance(value, dict):
+                for name_key in DEVICE_NAME_KEYS:
+                    if value.get(name_key):
+                        return str(value[name_key])
+    return ""
+
+
+def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, source: str) -> pd.DataFrame:
+    """One run: its frames, checked against its sidecar, with the metadata
+    columns the statistics group by."""
+    columns = read_frame_csv(csv_path)
+    meta = read_metadata(meta_path)
+    _check_against_meta(csv_path, meta_path, columns, meta)
+    frames = pd.DataFrame(columns)
+    build = meta.get(names.META_BUILD) or {}
+    host = meta.get(names.META_HOST) or {}
+    is_gpu = frames[names.LANES] == names.GPU_LANES
+    frames[names.STAGE] = [names.stage_of(a, e) for a, e in zip(frames[names.ALGORITHM], frames[names.EARLY_EXIT])]
+    frames[names.REPETITION] = repetition
+    frames[names.CONFIG_ID] = config_id
+    frames[names.DEVICE] = is_gpu.map({True: device_name(meta), False: ""})
+    frames[names.BUILD_TYPE] = str(build.get("build_type", ""))
+    frames[names.CPU_MODEL] = str(host.get("cpu_model", ""))
+    frames[names.LOGICAL_CORES] = int(host.get("logical_cores") or 0)
+    frames[names.GIT_COMMIT] = str(build.get(names.GIT_COMMIT, ""))
+    frames[names.GIT_DIRTY] = bool(build.get(names.GIT_DIRTY, False))
+    frames[names.SOURCE] = source
+    return frames
+
+
+def _check_against_meta(csv_path: Path, meta_path: Path, columns: dict, meta: dict) -> None:
+    run_id = columns[names.RUN_ID][0]
+    if meta.get(names.META_RUN_ID) != run_id:
+        raise RunDataError(f"{csv_path}: run_id {run_id} differs from its metadata {meta_path} ({meta.get(names.META_RUN_ID)})")
+    config = meta[names.META_CONFIG]
+    expected = config.get("warmup_frames", 0) + config.get("measured_frames", 0)
+    if expected and expected != len(columns[names.FRAME]):
+        raise RunDataError(
+            f"{csv_path}: {len(columns[names.FRAME])} frames, but {meta_path} says "
+            f"{config.get('warmup_frames')} warm-up + {config.get('measured_frames')} measured (truncated?)"
+        )
+
+
+# --- run directories -------------------------------------------------------------
+
+def read_manifest(run_dir: Path) -> dict | None:
+    """The runner's manifest, None when the directory has none."""
+    path = run_dir / MANIFEST
+    if not path.is_file():
+        return None
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as e:
+        raise RunDataError(f"{path}: not valid JSON: {e}") from None
+    if not isinstance(manifest.get("runs"), list):
+        raise RunDataError(f"{path}: no 'runs' list")
+    return manifest
+
+
+def run_entries(run_dir: Path) -> list[tuple[Path, Path, str, int]]:
+    """(csv, meta, config id, repetition) of every finished run in a directory."""
+    manifest = read_manifest(run_dir)
+    if manifest is not None:
+        return [
+            (run_dir / r["csv"], run_dir / r["meta"], r["config"], int(r["repetition"]))
+            for r in manifest["runs"]
+            if r.get("status") == OK
+        ]
+    entries = []
+    for csv_path in sorted(run_dir.rglob("*.csv")):
+        entries.append((csv_path, meta_path_for(csv_path), csv_path.stem, -1))
+    return entries
+
+
+def load_runs(run_dirs: list[Path]) -> pd.DataFrame:
+    """All finished runs of the given directories as one tidy frame."""
+    parts = []
+    for run_dir in map(Path, run_dirs):
+        if not run_dir.is_dir():
+            raise RunDataError(f"{run_dir}: not a directory")
+        for csv_path, meta_path, config_id, rep in run_entries(run_dir):
+            source = f"{run_dir.name}/{csv_path.relative_to(run_dir)}"
+            parts.append(load_one(csv_path, meta_path, config_id, rep, source))
+    if not parts:
+        raise RunDataError(f"{', '.join(map(str, run_dirs))}: no finished runs (no CSV with status ok)")
+    frames = pd.concat(parts, ignore_index=True)
+    return _number_repetitions(frames)
+
+
+def _number_repetitions(frames: pd.DataFrame) -> pd.DataFrame:
+    """Runs without a manifest (repetition -1), and runs of one configuration
+    from several directories (whose repetition numbers collide), are
+    renumbered 0, 1, ... in the order of their run ids, which start with the
+    UTC start time. The manifest's numbering is kept otherwise."""
+    runs = frames.drop_duplicates(names.RUN_ID)[[*names.CONFIG_KEYS, names.REPETITION, names.RUN_ID]]
+    if (runs[names.REPETITION] >= 0).all() and not runs.duplicated([*names.CONFIG_KEYS, names.REPETITION]).any():
+        return frames
+    runs = runs.sort_values(names.RUN_ID)
+    runs[names.REPETITION] = runs.groupby(names.CONFIG_KEYS, sort=False, dropna=False).cumcount()
+    numbering = dict(zip(runs[names.RUN_ID], runs[names.REPETITION]))
+    frames[names.REPETITION] = frames[names.RUN_ID].map(numbering).astype(int)
+    return frames

@@ -1,0 +1,129 @@
+"""Speedup and the Karp-Flatt metric, as pure functions, and the table of
+them for a run's summary.
+
+Speedup S = T_ref / T_par against the reference renderer at the same scene,
+stage and image size (as the thesis did: each table's sequential column).
+Karp-Flatt e = (1/S - 1/p) / (1 - 1/p), the experimentally determined serial
+fraction: it stays flat when the loss is serial work and grows with p when it
+is parallel overhead. p is threads x lanes for the CPU renderers (from the
+metadata) and a documented per-device estimate for the GPU
+(data/gpu_processors.toml), overridable.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+
+from rtbench import names
+
+GPU_PROCESSORS_FILE = names.REPO_ROOT / "data" / "gpu_processors.toml"
+
+
+def speedup(t_reference: float, t_parallel: float) -> float:
+    """S = T_ref / T_par; NaN where either time is missing or not positive."""
+    if not (t_reference > 0 and t_parallel > 0):
+        return math.nan
+    return t_reference / t_parallel
+
+
+def karp_flatt(s: float, p: float) -> float:
+    """e = (1/S - 1/p) / (1 - 1/p); undefined (NaN) for p <= 1 or no speedup."""
+    if not (p > 1 and s > 0) or math.isnan(s) or math.isnan(p):
+        return math.nan
+    return (1.0 / s - 1.0 / p) / (1.0 - 1.0 / p)
+
+
+@dataclass(frozen=True)
+class GpuEstimate:
+    match: str
+    p: int | None
+    lanes_per_core: int | None
+    note: str
+
+
+def load_gpu_estimates(path: Path = GPU_PROCESSORS_FILE) -> list[GpuEstimate]:
+    """The per-device table of GPU processor counts, in file order."""
+    with path.open("rb") as f:
+        entries = tomllib.load(f).get("device", [])
+    return [GpuEstimate(e["match"], e.get("p"), e.get("lanes_per_core"), e.get("note", "")) for e in entries]
+
+
+def gpu_processors(device: str, logical_cores: int, estimates: list[GpuEstimate],
+                   override: float | None = None) -> tuple[float, str]:
+    """(p, where it came from) for a GPU device; NaN when nothing matches."""
+    if override is not None:
+        return float(override), "--gpu-p"
+    for e in estimates:
+        if re.search(re.escape(e.match), device, re.IGNORECASE):
+            if e.p is not None:
+                return float(e.p), e.note
+            if e.lanes_per_core is not None and logical_cores > 0:
+                return float(e.lanes_per_core * logical_cores), e.note
+    return math.nan, f"no estimate for device {device or '(unknown)'}; pass --gpu-p"
+
+
+def processors(threads: int, lanes: int, device: str, logical_cores: int, estimates: list[GpuEstimate],
+               gpu_override: float | None = None) -> tuple[float, str]:
+    """p of one configuration: threads x lanes on the CPU, the estimate on the GPU."""
+    if lanes == names.GPU_LANES:
+        return gpu_processors(device, logical_cores, estimates, gpu_override)
+    return float(threads * max(lanes, 1)), "threads x lanes"
+
+
+def reference_rows(summary: pd.DataFrame, reference: str) -> pd.DataFrame:
+    """The reference renderer's rows, one per (scene, stage, size, build)."""
+    keys = [names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    ref = summary[summary[names.RENDERER] == reference]
+    return ref.sort_values(names.THREADS).drop_duplicates(keys)[[*keys, "median", "ci_low", "ci_high"]]
+
+
+def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[GpuEstimate],
+                  gpu_override: float | None = None, reference: str | None = None) -> pd.DataFrame:
+    """Speedup, p and Karp-Flatt for every non-reference configuration that has
+    a reference run at the same scene, stage, size and build. The speedup's
+    range divides the reference's bootstrap CI by the configuration's (a
+    conservative interval, not a CI of its own)."""
+    reference = reference or names.reference_renderer()
+    keys = [names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    ref = reference_rows(summary, reference).rename(
+        columns={"median": "ref_median", "ci_low": "ref_ci_low", "ci_high": "ref_ci_high"})
+    rows = summary[summary[names.RENDERER] != reference].merge(ref, on=keys, how="inner")
+    if rows.empty:
+        return pd.DataFrame(columns=[*summary.columns, "ref_median", "speedup", "speedup_low", "speedup_high",
+                                     "p", "p_source", "karp_flatt"])
+    out = rows.copy()
+    out["speedup"] = [speedup(r, t) for r, t in zip(out["ref_median"], out["median"])]
+    out["speedup_low"] = [speedup(r, t) for r, t in zip(out["ref_ci_low"], out["ci_high"])]
+    out["speedup_high"] = [speedup(r, t) for r, t in zip(out["ref_ci_high"], out["ci_low"])]
+    p = [processors(int(t), int(lanes), d, logical_cores, estimates, gpu_override)
+         for t, lanes, d in zip(out[names.THREADS], out[names.LANES], out[names.DEVICE])]
+    out["p"] = [v for v, _ in p]
+    out["p_source"] = [s for _, s in p]
+    out["karp_flatt"] = [karp_flatt(s, pv) for s, pv in zip(out["speedup"], out["p"])]
+    return out.drop(columns=["ref_ci_low", "ref_ci_high"])
+
+
+def scaling_table(summary: pd.DataFrame) -> pd.DataFrame:
+    """Strong scaling: for each renderer / lanes / scene / stage / size with
+    more than one thread count, S(t) = T(fewest threads) / T(t) x fewest."""
+    keys = [names.SCENE, names.STAGE, names.RENDERER, names.LANES, names.SIMD_TARGET, names.WIDTH, names.HEIGHT,
+            names.DEVICE, names.BUILD_TYPE]
+    parts = []
+    for _, group in summary.groupby(keys, sort=False, dropna=False):
+        if group[names.THREADS].nunique() < 2:
+            continue
+        group = group.sort_values(names.THREADS)
+        base = group.iloc[0]
+        scaled = group.copy()
+        scaled["scaling_speedup"] = [speedup(base["median"], t) * base[names.THREADS] for t in group["median"]]
+        scaled["efficiency"] = scaled["scaling_speedup"] / scaled[names.THREADS]
+        parts.append(scaled)
+    if not parts:
+        return pd.DataFrame(columns=[*summary.columns, "scaling_speedup", "efficiency"])
+    return pd.concat(parts, ignore_index=True)

@@ -1,0 +1,122 @@
+"""The names rtbench relies on, each taken from or checked against
+schema/rt_schema.json (the one source of truth, read through rtschema).
+
+Code elsewhere in rtbench imports these constants instead of spelling
+column, metadata or stage names itself, so a rename in the schema fails here,
+at import, instead of silently producing empty tables.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+import rtschema  # noqa: E402  (lives in scripts/, beside this package)
+
+REPO_ROOT = rtschema.REPO_ROOT
+
+
+def _column(name: str) -> str:
+    """A frame-CSV column the library needs; fails if the schema lacks it."""
+    if name not in rtschema.frame_csv_columns():
+        raise ImportError(f"rtbench needs CSV column {name!r}, which schema/rt_schema.json does not define")
+    return name
+
+
+def _meta_key(name: str) -> str:
+    """A metadata key the library needs; fails if the schema lacks it."""
+    if name not in rtschema.run_metadata_keys():
+        raise ImportError(f"rtbench needs metadata key {name!r}, which schema/rt_schema.json does not define")
+    return name
+
+
+# Frame CSV columns with a role in the statistics.
+RUN_ID = _column("run_id")
+SCENE = _column("scene")
+RENDERER = _column("renderer")
+THREADS = _column("threads")
+LANES = _column("lanes")
+SIMD_TARGET = _column("simd_target")
+GRAIN = _column("grain")
+PARTITION = _column("partition")
+ALGORITHM = _column("algorithm")
+EARLY_EXIT = _column("early_exit")
+WIDTH = _column("width")
+HEIGHT = _column("height")
+FRAME = _column("frame")
+WARMUP = _column("warmup")
+RENDER_MS = _column("render_ms")
+GPU_MS = _column("gpu_ms")
+
+# Metadata sidecar keys read by the loader.
+META_CONFIG = _meta_key("config")
+META_BUILD = _meta_key("build")
+META_HOST = _meta_key("host")
+META_SCENE = _meta_key("scene")
+META_RUN_ID = _meta_key("run_id")
+
+# Columns the loader adds to the schema's columns (not in the CSV files).
+STAGE = "stage"
+REPETITION = "repetition"
+CONFIG_ID = "config_id"
+DEVICE = "device"
+BUILD_TYPE = "build_type"
+CPU_MODEL = "cpu_model"
+LOGICAL_CORES = "logical_cores"
+SOURCE = "source"
+GIT_COMMIT = "git_commit"
+GIT_DIRTY = "git_dirty"
+
+# The columns that identify one configuration in the tidy frame.
+CONFIG_KEYS = [SCENE, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,
+               DEVICE, BUILD_TYPE]
+
+# The schema's `lanes` column: "1 for scalar renderers, 0 for gpu".
+GPU_LANES = 0
+# The schema's `early_exit` column: "'+'-joined ... or 'none'".
+EARLY_EXIT_SEPARATOR = "+"
+NO_EARLY_EXIT = "none"
+
+RENDERERS: list[str] = rtschema.renderer_names()
+RENDERER_FLAGS: dict[str, str] = rtschema.renderer_flags()
+STAGES: dict[str, dict] = rtschema.stages()
+ALGORITHMS: list[str] = list(rtschema.schema()["algorithms"])
+EARLY_EXITS: list[str] = list(rtschema.schema()["early_exits"])
+CSV_COLUMNS: list[str] = rtschema.frame_csv_columns()
+COLUMN_TYPES: dict[str, str] = {c["name"]: c["type"] for c in rtschema.schema()["frame_csv"]}
+SCHEMA_VERSION: int = rtschema.schema()["version"]
+
+
+def reference_renderer() -> str:
+    """The speedup baseline: the schema lists the scalar reference renderer first."""
+    return RENDERERS[0]
+
+
+def parse_early_exits(text: str) -> frozenset[str]:
+    """The set of early exits in a CSV `early_exit` value ('none' -> empty set)."""
+    if text in ("", NO_EARLY_EXIT):
+        return frozenset()
+    return frozenset(text.split(EARLY_EXIT_SEPARATOR))
+
+
+def stage_of(algorithm: str, early_exit: str) -> str:
+    """The thesis stage that (algorithm, early exits) amount to, per the schema's
+    stages list; combinations outside it get a descriptive label so ablation
+    runs stay distinguishable instead of being folded into a stage."""
+    exits = parse_early_exits(early_exit)
+    for name, stage in STAGES.items():
+        if stage["algorithm"] == algorithm and frozenset(stage["early_exits"]) == exits:
+            return name
+    return f"{algorithm}[{early_exit or NO_EARLY_EXIT}]"
+
+
+def stage_order(stage: str) -> int:
+    """Sort key: the schema's stages in their order, then everything else."""
+    names = list(STAGES)
+    return names.index(stage) if stage in names else len(names)
+
+
+def renderer_order(renderer: str) -> int:
+    """Sort key: renderers in schema order, unknown ones last."""
+    return RENDERERS.index(renderer) if renderer in RENDERERS else len(RENDERERS)

@@ -1,0 +1,224 @@
+"""The report's figures (matplotlib, Agg backend: no display, no plt.show()).
+
+Each function draws one figure from the summary or the tidy frames and saves
+it as PNG and SVG (atomically); it returns the paths written, or [] when the
+run has no data for that figure (e.g. no thread scaling in a `quick` run).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from rtbench import atomic, names, stats  # noqa: E402
+
+FORMATS = ("png", "svg")
+# Stable SVG ids and no timestamps: the same data give byte-identical files.
+plt.rcParams.update({"svg.hashsalt": "rtbench", "figure.dpi": 100, "savefig.dpi": 110, "font.size": 9})
+
+
+def save(fig, stem: Path) -> list[Path]:
+    """Writes stem.png and stem.svg, each via a temporary file."""
+    paths = []
+    fig.tight_layout()  # once: both formats share the layout
+    for fmt in FORMATS:
+        path = stem.with_suffix(f".{fmt}")
+        with atomic.atomic_path(path) as tmp:
+            fig.savefig(tmp, format=fmt, metadata={"Date": None} if fmt == "svg" else {"Software": None})
+        paths.append(path)
+    plt.close(fig)
+    return paths
+
+
+def _log_y(ax, values, pad: float = 1.0) -> None:
+    """Log y axis with plain numbers (0.5, 2, 40, not 5x10^-1); over less than
+    three decades also 2x and 5x ticks, so a narrow panel still has labels.
+    `pad` > 1 sets the limits to the data's range widened by that factor."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v) & (v > 0)]
+    ax.set_yscale("log")
+    if v.size and np.log10(v.max() / v.min()) < 3:
+        ax.yaxis.set_major_locator(matplotlib.ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda y, _: f"{y:g}"))
+    ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    if v.size and pad > 1:
+        ax.set_ylim(v.min() / pad, v.max() * pad)
+
+
+def _ordered(values, order) -> list:
+    return sorted(pd.unique(values), key=lambda v: (order(v), str(v)))
+
+
+def _renderer_label(row) -> str:
+    """Renderer plus the axes that distinguish its configurations."""
+    label = row[names.RENDERER]
+    if row[names.LANES] == names.GPU_LANES:
+        return label
+    extras = []
+    if row[names.THREADS] > 1:
+        extras.append(f"t{row[names.THREADS]}")
+    if row[names.LANES] > 1:
+        extras.append(f"l{row[names.LANES]}")
+    return f"{label} {' '.join(extras)}" if extras else label
+
+
+def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
+    """Median render_ms per renderer x scene, one panel per stage, log scale,
+    with the bootstrap CI of the median as error bars."""
+    if summary.empty:
+        return []
+    df = summary.assign(_label=summary.apply(_renderer_label, axis=1))
+    stages_ = _ordered(df[names.STAGE], names.stage_order)
+    scenes = list(pd.unique(df[names.SCENE]))
+    labels = _ordered(df["_label"], lambda text: names.renderer_order(text.split(" ")[0]))
+    fig, axes = plt.subplots(1, len(stages_), figsize=(4.2 * len(stages_) + 1, 3.8), sharey=True, squeeze=False)
+    width = 0.8 / max(len(labels), 1)
+    colors = plt.get_cmap("tab10")
+    for ax, stage in zip(axes[0], stages_):
+        part = df[df[names.STAGE] == stage]
+        for i, label in enumerate(labels):
+            rows = [part[(part["_label"] == label) & (part[names.SCENE] == s)] for s in scenes]
+            med = np.array([r["median"].iloc[0] if len(r) else np.nan for r in rows])
+            lo = np.array([r["ci_low"].iloc[0] if len(r) else np.nan for r in rows])
+            hi = np.array([r["ci_high"].iloc[0] if len(r) else np.nan for r in rows])
+            x = np.arange(len(scenes)) + (i - (len(labels) - 1) / 2) * width
+            ax.bar(x, med, width, label=label, color=colors(i % 10), yerr=[med - lo, hi - med], capsize=2)
+        _log_y(ax, np.concatenate([df["ci_low"].to_numpy(dtype=float), df["ci_high"].to_numpy(dtype=float)]), pad=1.6)
+        ax.set_title(f"stage {stage}")
+        ax.set_xticks(np.arange(len(scenes)), scenes)
+        ax.grid(axis="y", which="both", alpha=0.3)
+    axes[0][0].set_ylabel("render_ms per frame (median, log scale)")
+    axes[0][-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1))
+    fig.suptitle(f"Render time per frame ({_size_text(df)})")
+    return save(fig, stem)
+
+
+def _size_text(df: pd.DataFrame) -> str:
+    sizes = sorted({f"{w}x{h}" for w, h in zip(df[names.WIDTH], df[names.HEIGHT])})
+    return ", ".join(sizes)
+
+
+def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
+    """Strong scaling: speedup over the fewest threads vs threads, with the
+    ideal (linear) line; one line per renderer / lanes / scene / stage."""
+    if scaling.empty:
+        return []
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    keys = [names.RENDERER, names.LANES, names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT]
+    for key, group in scaling.groupby(keys, sort=False):
+        renderer, lanes, scene, stage, w, h = key
+        lane_text = f" l{lanes}" if lanes > 1 else ""
+        ax.plot(group[names.THREADS], group["scaling_speedup"], marker="o",
+                label=f"{renderer}{lane_text} {scene} {stage}")
+    top = int(scaling[names.THREADS].max())
+    ax.plot([1, top], [1, top], "k--", linewidth=1, label="ideal")
+    ax.set_xlabel("threads")
+    ax.set_ylabel("speedup over fewest threads (median render_ms)")
+    ax.set_xticks(sorted(pd.unique(scaling[names.THREADS])))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title("Strong scaling")
+    return save(fig, stem)
+
+
+def _grid(frames: pd.DataFrame):
+    stages_ = _ordered(frames[names.STAGE], names.stage_order)
+    scenes = list(pd.unique(frames[names.SCENE]))
+    fig, axes = plt.subplots(len(stages_), len(scenes), figsize=(4.0 * len(scenes) + 1.5, 2.8 * len(stages_) + 0.6),
+                             squeeze=False)
+    return fig, axes, stages_, scenes
+
+
+def _config_label(group: pd.DataFrame) -> str:
+    return _renderer_label(group.iloc[0])
+
+
+def frame_series(frames: pd.DataFrame, stem: Path) -> list[Path]:
+    """render_ms of every frame in run order (repetitions one after another),
+    warm-up frames hollow, flagged outliers crossed; one panel per stage x
+    scene. Shows warm-up effects, drift and spikes that a median hides."""
+    if frames.empty:
+        return []
+    fig, axes, stages_, scenes = _grid(frames)
+    outliers = stats.flag_outliers(frames)
+    colors = plt.get_cmap("tab10")
+    for (i, stage), (j, scene) in ((a, b) for a in enumerate(stages_) for b in enumerate(scenes)):
+        ax = axes[i][j]
+        part = frames[(frames[names.STAGE] == stage) & (frames[names.SCENE] == scene)]
+        for k, (_, group) in enumerate(part.groupby(names.CONFIG_ID, sort=False)):
+            group = group.sort_values([names.REPETITION, names.FRAME])
+            x = np.arange(len(group))
+            color = colors(k % 10)
+            warm = group[names.WARMUP].to_numpy() == 1
+            y = group[names.RENDER_MS].to_numpy()
+            ax.plot(x, y, color=color, linewidth=0.8, label=_config_label(group))
+            ax.scatter(x[~warm], y[~warm], color=color, s=8)
+            ax.scatter(x[warm], y[warm], facecolors="none", edgecolors=color, s=14)
+            flagged = outliers.loc[group.index].to_numpy()
+            ax.scatter(x[flagged], y[flagged], color="red", marker="x", s=30, zorder=3)
+            for boundary in np.flatnonzero(np.diff(group[names.REPETITION].to_numpy())) + 0.5:
+                ax.axvline(boundary, color="grey", linestyle=":", linewidth=0.8)
+        _log_y(ax, part[names.RENDER_MS])
+        ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
+        ax.set_title(f"{scene}, {stage}", fontsize=8)
+        ax.grid(alpha=0.3, which="both")
+        if len(part):
+            ax.legend(fontsize=6)
+    fig.supxlabel("frame, repetitions in run order, dotted: next repetition (hollow: warm-up; red x: outlier)")
+    fig.supylabel("render_ms (log scale)")
+    return save(fig, stem)
+
+
+def distributions(frames: pd.DataFrame, stem: Path) -> list[Path]:
+    """Box plots of the measured frame times per configuration; one panel per
+    stage x scene, log scale."""
+    meas = stats.measured(frames)
+    if meas.empty:
+        return []
+    fig, axes, stages_, scenes = _grid(meas)
+    for (i, stage), (j, scene) in ((a, b) for a in enumerate(stages_) for b in enumerate(scenes)):
+        ax = axes[i][j]
+        part = meas[(meas[names.STAGE] == stage) & (meas[names.SCENE] == scene)]
+        groups = [g for _, g in part.groupby(names.CONFIG_ID, sort=False)]
+        groups.sort(key=lambda g: names.renderer_order(g[names.RENDERER].iloc[0]))
+        if groups:
+            ax.boxplot([g[names.RENDER_MS].to_numpy() for g in groups], showmeans=True, widths=0.6)
+            ax.set_xticks(range(1, len(groups) + 1), [_config_label(g) for g in groups], rotation=30, ha="right",
+                          fontsize=7)
+        _log_y(ax, part[names.RENDER_MS])
+        ax.set_title(f"{scene}, {stage}", fontsize=8)
+        ax.grid(axis="y", alpha=0.3, which="both")
+    fig.supylabel("render_ms of measured frames (log scale)")
+    fig.suptitle("Frame-time distributions (box: quartiles, whiskers 1.5 IQR, triangle: mean)")
+    return save(fig, stem)
+
+
+def thesis_speedups(side: pd.DataFrame, stem: Path) -> list[Path]:
+    """Speedup over the reference per renderer and stage, thesis vs ours, for
+    one scene (log scale): the comparable part of the two studies."""
+    if side.empty:
+        return []
+    side = side.astype({"thesis": float, "ours": float})
+    side = side[np.isfinite(side["thesis"]) & np.isfinite(side["ours"])]
+    if side.empty:
+        return []
+    labels = [f"{r}\n{s}" for r, s in zip(side["renderer"], side["stage"])]
+    x = np.arange(len(side))
+    fig, ax = plt.subplots(figsize=(max(5.0, 0.7 * len(side) + 1.5), 4.0))
+    ax.bar(x - 0.2, side["thesis"], 0.4, label="thesis (M1, -O0)")
+    ax.bar(x + 0.2, side["ours"], 0.4, label="ours")
+    ax.axhline(1.0, color="k", linewidth=0.8)
+    _log_y(ax, np.concatenate([side["thesis"].to_numpy(), side["ours"].to_numpy(), [1.0]]))
+    ax.set_xticks(x, labels, fontsize=7)
+    ax.set_ylabel(f"speedup over {names.reference_renderer()} (log scale)")
+    ax.set_title(f"Speedups, thesis vs ours: {side['scene'].iloc[0]}")
+    ax.grid(axis="y", alpha=0.3, which="both")
+    ax.legend()
+    return save(fig, stem)

@@ -1,0 +1,326 @@
+"""Puts a report together: run directories in, report/ out.
+
+    report/README.md          what a person reads first (generated)
+    report/tables/*.md|.tex   tables 1-4 of the thesis for our run, the thesis
+                              beside ours, metrics, every configuration
+    report/plots/*.png|.svg   bars, scaling, frame series, distributions
+    report/data/*.csv         summary, metrics and flagged outliers, full precision
+
+The output depends only on the input files (no clock, seeded bootstrap), so
+regenerating a report from the same runs gives the same files.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+
+from rtbench import atomic, load, metrics, names, noise, plots, stats, tables, thesis
+
+TABLES_DIR = "tables"
+PLOTS_DIR = "plots"
+DATA_DIR = "data"
+
+
+@dataclass
+class ReportInputs:
+    """Everything the report is computed from."""
+
+    run_dirs: list[Path]
+    frames: pd.DataFrame
+    manifests: list[dict | None]  # one per run directory; None where it has none
+    thesis_tables: pd.DataFrame
+    thesis_reported: pd.DataFrame
+    gpu_estimates: list[metrics.GpuEstimate]
+    gpu_override: float | None = None
+
+
+@dataclass
+class ReportResults:
+    summary: pd.DataFrame
+    metrics: pd.DataFrame
+    scaling: pd.DataFrame
+    thesis_metrics: pd.DataFrame
+    tables: list[tables.Table]
+    warnings: list[str]
+    written: list[Path] = field(default_factory=list)
+
+
+def gather(run_dirs: list[Path], gpu_override: float | None = None) -> ReportInputs:
+    """Loads the runs (strictly: errors name the file) and the thesis' data."""
+    run_dirs = [Path(d) for d in run_dirs]
+    frames = load.load_runs(run_dirs)
+    manifests = [load.read_manifest(d) for d in run_dirs]
+    return ReportInputs(run_dirs, frames, manifests, thesis.load_tables(), thesis.load_reported(),
+                        metrics.load_gpu_estimates(), gpu_override)
+
+
+def compute(inputs: ReportInputs) -> ReportResults:
+    """All statistics, metrics and tables; no I/O."""
+    summary = stats.summarize_configs(inputs.frames)
+    cores = int(inputs.frames[names.LOGICAL_CORES].max())
+    met = metrics.metrics_table(summary, cores, inputs.gpu_estimates, inputs.gpu_override)
+    scaling = metrics.scaling_table(summary)
+    thesis_metrics = thesis.reported_vs_recomputed(inputs.thesis_tables, inputs.thesis_reported)
+    built = build_tables(summary, met, thesis_metrics, inputs.thesis_tables)
+    return ReportResults(summary, met, scaling, thesis_metrics, built, collect_warnings(inputs, summary))
+
+
+def build_tables(summary, met, thesis_metrics, thesis_tables) -> list[tables.Table]:
+    """Tables 1-4 per image size, then the comparisons, then everything."""
+    sizes = tables.sizes(summary)
+    scenes = _scene_order(summary, thesis_tables)
+    built = []
+    for size in sizes:
+        for spec in thesis.table_layout(thesis_tables):
+            t = tables.thesis_mirror(summary, spec, size, scenes)
+            if len(sizes) > 1:
+                t = tables.Table(f"{t.slug}-{size[0]}x{size[1]}", t.title, t.headers, t.rows, t.align, t.notes)
+            built.append(t)
+    built.append(tables.side_by_side(summary, thesis_tables, sizes[0]))
+    built.append(tables.stage_effects(summary, thesis_tables, sizes[0]))
+    built.append(tables.metrics_our(met))
+    built.append(tables.metrics_vs_thesis(thesis_metrics, met, sizes[0]))
+    built.append(tables.thesis_published(thesis_metrics))
+    built.append(tables.summary_table(summary))
+    return built
+
+
+def _scene_order(summary: pd.DataFrame, thesis_tables: pd.DataFrame) -> list[str]:
+    """The thesis' scenes in its order, then any other scene of the run."""
+    ours = list(pd.unique(summary[names.SCENE]))
+    known = [s for s in pd.unique(thesis_tables["scene"]) if s in ours]
+    return known + [s for s in ours if s not in known]
+
+
+def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
+    """The runner's machine warnings, plus what the data themselves show."""
+    warnings = [w for m in inputs.manifests if m for w in m.get("warnings", [])]
+    spreads = {stats.config_label(r): r["rep_spread"] for _, r in summary.iterrows()}
+    warnings += noise.spread_warnings(spreads)
+    builds = sorted(set(inputs.frames[names.BUILD_TYPE]))
+    if any(b.lower() not in ("release", "papero0") for b in builds):
+        warnings.append(f"build type {', '.join(builds)}: measure with the release preset (or paper-o0 on purpose)")
+    if inputs.frames[names.GIT_DIRTY].any():
+        warnings.append("the binary was built from a work tree with uncommitted changes (git_dirty)")
+    outliers = int(summary["outliers"].sum())
+    if outliers:
+        warnings.append(f"{outliers} frame(s) flagged as outliers (|modified z| > {stats.OUTLIER_LIMIT}); kept in "
+                        f"every statistic, listed in {DATA_DIR}/outliers.csv")
+    return list(dict.fromkeys(warnings))
+
+
+# --- writing ---------------------------------------------------------------------
+
+def write(inputs: ReportInputs, results: ReportResults, out: Path) -> list[Path]:
+    """Writes every file of the report, then removes stale files that an
+    earlier report left in the directories this one owns."""
+    out = Path(out)
+    written = []
+    for t in results.tables:
+        written.append(atomic.write_text(out / TABLES_DIR / f"{t.slug}.md", tables.to_markdown(t)))
+        written.append(atomic.write_text(out / TABLES_DIR / f"{t.slug}.tex", tables.to_latex(t)))
+    written += write_data(inputs, results, out / DATA_DIR)
+    figures = draw_figures(inputs, results, out / PLOTS_DIR)
+    written += [p for paths in figures.values() for p in paths]
+    written.append(atomic.write_text(out / "README.md", readme(inputs, results, figures, out)))
+    remove_stale(out, written)
+    results.written = written
+    return written
+
+
+def write_data(inputs: ReportInputs, results: ReportResults, out: Path) -> list[Path]:
+    """Full-precision CSVs of the summary, the metrics and the outliers."""
+    frames = inputs.frames.assign(modified_z=stats.modified_z_by_config(inputs.frames))
+    flagged = frames[frames["modified_z"].abs() > stats.OUTLIER_LIMIT]
+    outlier_cols = [names.SOURCE, names.FRAME, names.SCENE, names.RENDERER, names.STAGE, names.RENDER_MS, "modified_z"]
+    files = {
+        "summary.csv": results.summary,
+        "metrics.csv": results.metrics,
+        "outliers.csv": flagged[outlier_cols],
+        "thesis_metrics.csv": results.thesis_metrics,
+    }
+    return [atomic.write_text(out / name, df.to_csv(index=False, float_format="%.17g")) for name, df in files.items()]
+
+
+def draw_figures(inputs: ReportInputs, results: ReportResults, out: Path) -> dict[str, list[Path]]:
+    """Every figure; an empty list where the run has no data for one."""
+    frames = inputs.frames
+    return {
+        "render_ms": plots.render_bars(results.summary, out / "render_ms"),
+        "thesis_speedups": plots.thesis_speedups(_speedup_pairs(results, inputs), out / "thesis_speedups"),
+        "scaling": plots.speedup_vs_threads(results.scaling, out / "scaling"),
+        "frame_series": plots.frame_series(frames, out / "frame_series"),
+        "distributions": plots.distributions(frames, out / "distributions"),
+    }
+
+
+def _speedup_pairs(results: ReportResults, inputs: ReportInputs) -> pd.DataFrame:
+    """Thesis vs our speedups for the largest thesis scene in our run."""
+    published = thesis.recomputed_speedups(inputs.thesis_tables)
+    ours = tables.headline_rows(results.metrics) if not results.metrics.empty else results.metrics
+    scenes = [s for s in pd.unique(published["scene"]) if not ours.empty and s in set(ours[names.SCENE])]
+    if not scenes:
+        return pd.DataFrame(columns=["renderer", "stage", "scene", "thesis", "ours"])
+    scene = scenes[-1]
+    rows = []
+    for r in published[published["scene"] == scene].itertuples(index=False):
+        hit = ours[(ours[names.SCENE] == scene) & (ours[names.RENDERER] == r.renderer) & (ours[names.STAGE] == r.stage)]
+        rows.append({"renderer": r.renderer, "stage": r.stage, "scene": scene, "thesis": r.speedup,
+                     "ours": hit["speedup"].iloc[0] if len(hit) else math.nan})
+    return pd.DataFrame(rows)
+
+
+def remove_stale(out: Path, written: list[Path]) -> None:
+    keep = {p.resolve() for p in written}
+    for sub in (TABLES_DIR, PLOTS_DIR, DATA_DIR):
+        for path in (out / sub).glob("*"):
+            if path.is_file() and path.resolve() not in keep:
+                path.unlink()
+
+
+# --- README ------------------------------------------------------------------------
+
+def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list[Path]], out: Path) -> str:
+    """report/README.md: what ran, warnings, how to read it, the tables, figures."""
+    by_slug = {t.slug: t for t in results.tables}
+    parts = [
+        "# Benchmark report\n",
+        "Generated by `scripts/report.py` from the run(s) below; do not edit by hand, regenerate it.\n",
+        _what_ran(inputs, results),
+        _warnings_section(results.warnings),
+        HOW_TO_READ,
+        "## The thesis' tables 1-4, for our run\n",
+        *(tables.to_markdown(t) for t in results.tables if t.slug.startswith("table")),
+        "## The thesis beside ours\n",
+        tables.to_markdown(by_slug["thesis-vs-ours"]),
+        _figure(figures, "thesis_speedups", "Speedups: thesis vs ours", out),
+        "## What the stages change\n",
+        tables.to_markdown(by_slug["stage-effects"]),
+        "## Speedup and Karp-Flatt\n",
+        tables.to_markdown(by_slug["metrics-vs-thesis"]),
+        tables.to_markdown(by_slug["metrics"]),
+        "## The thesis' own metrics, recomputed\n",
+        thesis_note(results.thesis_metrics),
+        tables.to_markdown(by_slug["thesis-metrics-recomputed"]),
+        "## Figures\n",
+        _figure(figures, "render_ms", "Render time per frame", out),
+        _figure(figures, "scaling", "Strong scaling", out)
+        or "No strong-scaling figure: this run has one thread count per renderer (use `--profile scaling`).\n",
+        _figure(figures, "frame_series", "Frame times in run order", out),
+        _figure(figures, "distributions", "Frame-time distributions", out),
+        "## Every configuration\n",
+        f"All statistics of every configuration: [`{TABLES_DIR}/summary.md`]({TABLES_DIR}/summary.md); "
+        f"full precision in [`{DATA_DIR}/summary.csv`]({DATA_DIR}/summary.csv), "
+        f"[`{DATA_DIR}/metrics.csv`]({DATA_DIR}/metrics.csv), flagged frames in "
+        f"[`{DATA_DIR}/outliers.csv`]({DATA_DIR}/outliers.csv). LaTeX versions of every table are beside the "
+        f"Markdown ones in `{TABLES_DIR}/` (they need `\\usepackage{{booktabs}}`).\n",
+        _unfinished_section(inputs.manifests),
+    ]
+    return "\n".join(p for p in parts if p)
+
+
+def _what_ran(inputs: ReportInputs, results: ReportResults) -> str:
+    frames = inputs.frames
+    lines = ["## What ran\n", "| | |", "|:--|:--|"]
+    for d, m in zip(inputs.run_dirs, inputs.manifests, strict=True):
+        profile = (m or {}).get("profile", {}).get("name", "(no manifest)")
+        lines.append(f"| run | `{d.name}` (profile `{profile}`) |")
+    lines.append(f"| CPU | {', '.join(sorted(set(frames[names.CPU_MODEL])))} "
+                 f"({', '.join(map(str, sorted(set(frames[names.LOGICAL_CORES]))))} logical cores) |")
+    devices = sorted({d for d in frames[names.DEVICE] if d})
+    if devices:
+        lines.append(f"| GPU device | {', '.join(devices)} |")
+    commits = sorted({f"{c[:12]}{' (dirty)' if d else ''}" for c, d in zip(frames[names.GIT_COMMIT], frames[names.GIT_DIRTY])})
+    lines.append(f"| build | {', '.join(sorted(set(frames[names.BUILD_TYPE])))}, commit {', '.join(commits)} |")
+    s = results.summary
+    lines.append(f"| configurations | {len(s)}, {int(s['n'].sum())} measured frames "
+                 f"({int(frames[names.WARMUP].sum())} warm-up frames excluded) |")
+    lines.append(f"| image sizes | {', '.join(f'{w}x{h}' for w, h in tables.sizes(s))} |")
+    return "\n".join(lines) + "\n"
+
+
+def _warnings_section(warnings: list[str]) -> str:
+    if not warnings:
+        return "## Warnings\n\nNone: governor, load, spread between repetitions and build type look fine.\n"
+    return "## Warnings\n\n" + "\n".join(f"- {w}" for w in warnings) + "\n"
+
+
+def _figure(figures: dict[str, list[Path]], key: str, caption: str, out: Path) -> str:
+    paths = figures.get(key) or []
+    png = [p for p in paths if p.suffix == ".png"]
+    if not png:
+        return ""
+    rel = png[0].relative_to(out).as_posix()
+    svg = rel[:-4] + ".svg"
+    return f"![{caption}]({rel})\n\n*{caption}* ([SVG]({svg}))\n"
+
+
+def _unfinished_section(manifests: list[dict | None]) -> str:
+    """Runs that did not produce data: renderers this binary does not have
+    (one line each), failures and interrupted runs (one line per run)."""
+    rows = [r for m in manifests if m for r in m.get("runs", []) if r.get("status") != load.OK]
+    if not rows:
+        return ""
+    lines = ["## Runs without data\n", "| run | status | exit | reason |", "|:--|:--|--:|:--|"]
+    unavailable: dict[str, list[dict]] = {}
+    for r in rows:
+        if r.get("status") == "unavailable":
+            unavailable.setdefault(r.get("renderer", "?"), []).append(r)
+            continue
+        lines.append(f"| {r.get('config')} r{r.get('repetition')} | {r.get('status')} | "
+                     f"{'' if r.get('exit_code') is None else r.get('exit_code')} | {_reason(r)} |")
+    for renderer, runs in unavailable.items():
+        lines.append(f"| every {renderer} run ({len(runs)}) | unavailable in this binary | | {_reason(runs[0])} |")
+    return "\n".join(lines) + "\n"
+
+
+def _reason(run: dict) -> str:
+    return " ".join((run.get("stderr_tail") or "").split())[-200:].replace("|", "\\|")
+
+
+HOW_TO_READ = """## How to read this report
+
+- Every number is a statistic of the **measured** frames of a configuration
+  (one scene x renderer x stage x threads x lanes x size), all repetitions
+  pooled; warm-up frames are never included. The tables show the **median**
+  render time per frame (`render_ms`, host wall time of the Render phase).
+- The thesis reported arithmetic means at -O0 on an Apple M1; times do not
+  compare across machines, **speedups** over the sequential reference do.
+- Where a renderer ran with several thread counts or lane widths, tables 1-4
+  and the comparisons show the configuration with the most threads x lanes;
+  all of them are in the summary table.
+- Uncertainty: the 95 % bootstrap confidence interval of the median (seeded,
+  so a report regenerates identically) and the spread between repetitions.
+  Frames with a modified z-score above 3.5 are flagged as outliers, never
+  dropped.
+- Karp-Flatt e = (1/S - 1/p)/(1 - 1/p) estimates the serial fraction: small
+  and flat as p grows means the work parallelises well. p = threads x lanes
+  for the CPU renderers (from each run's metadata); for the GPU, a per-device
+  estimate of its FP32 lanes (`data/gpu_processors.toml`, or `--gpu-p`).
+"""
+
+
+
+def thesis_note(thesis_metrics: pd.DataFrame) -> str:
+    """Says, with the numbers, that the thesis' Karp-Flatt values do not
+    follow from its own table while its speedups do."""
+    kf = thesis_metrics.dropna(subset=["karp_flatt_reported"])
+    off = [f"{r.stage} {r.renderer} on {r.scene}: stated {tables.fmt_sig(r.karp_flatt_reported)}, "
+           f"recomputed {tables.fmt_sig(r.karp_flatt_recomputed)} (p = {int(r.p)})"
+           for r in kf.itertuples(index=False)
+           if not math.isclose(r.karp_flatt_reported, r.karp_flatt_recomputed, rel_tol=0.02)]
+    s_ok = all(math.isclose(a, b, rel_tol=1e-3) for a, b in
+               zip(thesis_metrics["speedup_reported"], thesis_metrics["speedup_recomputed"]) if math.isfinite(a))
+    text = ("The thesis' speedups " + ("follow from" if s_ok else "do not all follow from") +
+            " its published times. ")
+    if off:
+        text += ("Its Karp-Flatt values do not: with its own p and its own times they come out as follows, and "
+                 "this report uses the recomputed values wherever it compares with the thesis.\n\n" +
+                 "\n".join(f"- {o}" for o in off) + "\n")
+    else:
+        text += "Its Karp-Flatt values follow from them too.\n"
+    return text

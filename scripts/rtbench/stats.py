@@ -1,0 +1,172 @@
+"""Summary statistics of frame times: pure functions over arrays and frames.
+
+Frame times are skewed (a frame can be slow, never faster than the work), so
+the report leads with the median and the median absolute deviation; mean and
+standard deviation are kept for comparison with the thesis, which reported
+means. Outliers are flagged by the modified z-score (Iglewicz & Hoaglin),
+never dropped.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from rtbench import names
+
+# Iglewicz & Hoaglin: |M| > 3.5 marks a potential outlier; 0.6745 is the
+# 0.75 quantile of the standard normal, making MAD comparable to sigma.
+OUTLIER_LIMIT = 3.5
+MAD_TO_Z = 0.6745
+BOOTSTRAP_RESAMPLES = 2000
+BOOTSTRAP_SEED = 20240601
+CONFIDENCE = 0.95
+
+CONFIG_KEYS = names.CONFIG_KEYS
+
+
+def _array(values) -> np.ndarray:
+    x = np.asarray(values, dtype=float)
+    return x[np.isfinite(x)]
+
+
+def median(values) -> float:
+    x = _array(values)
+    return float(np.median(x)) if x.size else math.nan
+
+
+def mad(values) -> float:
+    """Median absolute deviation from the median (raw, not scaled to sigma)."""
+    x = _array(values)
+    return float(np.median(np.abs(x - np.median(x)))) if x.size else math.nan
+
+
+def percentile(values, q: float) -> float:
+    """The q-th percentile with linear interpolation (numpy's default)."""
+    x = _array(values)
+    return float(np.percentile(x, q)) if x.size else math.nan
+
+
+def bootstrap_median_ci(values, confidence: float = CONFIDENCE, resamples: int = BOOTSTRAP_RESAMPLES,
+                        seed: int = BOOTSTRAP_SEED) -> tuple[float, float]:
+    """Percentile-bootstrap confidence interval of the median. Seeded, so the
+    same data always give the same interval (reports are reproducible)."""
+    x = _array(values)
+    if x.size == 0:
+        return (math.nan, math.nan)
+    if x.size == 1:
+        return (float(x[0]), float(x[0]))
+    rng = np.random.default_rng(seed)
+    medians = np.median(x[rng.integers(0, x.size, size=(resamples, x.size))], axis=1)
+    tail = (1.0 - confidence) / 2.0 * 100.0
+    lo, hi = np.percentile(medians, [tail, 100.0 - tail])
+    return (float(lo), float(hi))
+
+
+def modified_z_scores(values) -> np.ndarray:
+    """M_i = 0.6745 (x_i - median) / MAD. With MAD = 0 (more than half the
+    values identical) every value off the median gets an infinite score."""
+    x = np.asarray(values, dtype=float)
+    finite = x[np.isfinite(x)]
+    if finite.size == 0:
+        return np.full(x.shape, np.nan)
+    center = np.median(finite)
+    spread = np.median(np.abs(finite - center))
+    deviation = x - center
+    if spread == 0:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(deviation == 0, 0.0, np.sign(deviation) * np.inf)
+    return MAD_TO_Z * deviation / spread
+
+
+def outlier_mask(values, limit: float = OUTLIER_LIMIT) -> np.ndarray:
+    """True where |modified z-score| > limit."""
+    return np.abs(modified_z_scores(values)) > limit
+
+
+def summarize(values, seed: int = BOOTSTRAP_SEED) -> dict[str, float]:
+    """Every statistic the report shows for one set of frame times."""
+    x = _array(values)
+    lo, hi = bootstrap_median_ci(x, seed=seed)
+    return {
+        "n": int(x.size),
+        "median": median(x),
+        "mean": float(x.mean()) if x.size else math.nan,
+        "std": float(x.std(ddof=1)) if x.size > 1 else math.nan,
+        "mad": mad(x),
+        "ci_low": lo,
+        "ci_high": hi,
+        "p95": percentile(x, 95),
+        "p99": percentile(x, 99),
+        "min": float(x.min()) if x.size else math.nan,
+        "max": float(x.max()) if x.size else math.nan,
+        "outliers": int(outlier_mask(x).sum()) if x.size else 0,
+    }
+
+
+def measured(frames: pd.DataFrame) -> pd.DataFrame:
+    """The measured frames only: warm-up frames never enter a statistic."""
+    return frames[frames[names.WARMUP] == 0]
+
+
+def modified_z_by_config(frames: pd.DataFrame, value: str = names.RENDER_MS) -> pd.Series:
+    """Modified z-score of each measured frame within its configuration (all
+    repetitions pooled, as in the summary); NaN for warm-up frames."""
+    scores = pd.Series(np.nan, index=frames.index)
+    for _, group in measured(frames).groupby(CONFIG_KEYS, sort=False, dropna=False):
+        scores.loc[group.index] = modified_z_scores(group[value].to_numpy())
+    return scores
+
+
+def flag_outliers(frames: pd.DataFrame, value: str = names.RENDER_MS) -> pd.Series:
+    """Per configuration, which measured frames are outliers (warm-up: False)."""
+    return modified_z_by_config(frames, value).abs() > OUTLIER_LIMIT
+
+
+def summarize_configs(frames: pd.DataFrame, value: str = names.RENDER_MS) -> pd.DataFrame:
+    """One row per configuration: statistics of `value` over the measured frames
+    of all its repetitions pooled, plus the spread between repetitions (the
+    coefficient of variation of the per-repetition medians)."""
+    rows = []
+    meas = measured(frames)
+    for key, group in meas.groupby(CONFIG_KEYS, sort=False, dropna=False):
+        row = dict(zip(CONFIG_KEYS, key))
+        row.update(summarize(group[value].to_numpy()))
+        rep_medians = group.groupby(names.REPETITION)[value].median().to_numpy()
+        row["repetitions"] = int(len(rep_medians))
+        row["rep_spread"] = coefficient_of_variation(rep_medians)
+        rows.append(row)
+    columns = [*CONFIG_KEYS, "n", "median", "mean", "std", "mad", "ci_low", "ci_high", "p95", "p99", "min", "max",
+               "outliers", "repetitions", "rep_spread"]
+    summary = pd.DataFrame(rows, columns=columns)
+    return sort_configs(summary)
+
+
+def coefficient_of_variation(values) -> float:
+    """Sample standard deviation / mean; NaN for fewer than two values."""
+    x = _array(values)
+    if x.size < 2 or x.mean() == 0:
+        return math.nan
+    return float(x.std(ddof=1) / x.mean())
+
+
+def config_label(row) -> str:
+    """scene/renderer/stage[/tN][/lN]: a configuration's name in warnings."""
+    text = f"{row[names.SCENE]}/{row[names.RENDERER]}/{row[names.STAGE]}"
+    if row[names.THREADS] > 1:
+        text += f"/t{row[names.THREADS]}"
+    if row[names.LANES] > 1:
+        text += f"/l{row[names.LANES]}"
+    return text
+
+
+def sort_configs(df: pd.DataFrame) -> pd.DataFrame:
+    """Stages and renderers in schema order, then scene, threads, lanes."""
+    key = df.assign(
+        _stage=df[names.STAGE].map(names.stage_order),
+        _renderer=df[names.RENDERER].map(names.renderer_order),
+    )
+    key = key.sort_values(["_stage", names.SCENE, "_renderer", names.THREADS, names.LANES, names.WIDTH], kind="stable")
+    return key.drop(columns=["_stage", "_renderer"]).reset_index(drop=True)

@@ -1,0 +1,310 @@
+"""The report's tables: built as data (`Table`), rendered to Markdown and LaTeX.
+
+Builders take the summary (one row per configuration, from stats) and the
+thesis' data, and return `Table`s; rendering is separate, so the same table
+goes to report/README.md, report/tables/*.md and report/tables/*.tex.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from rtbench import names
+from rtbench.thesis import TableSpec
+
+MISSING = "–"
+
+
+@dataclass(frozen=True)
+class Table:
+    slug: str
+    title: str
+    headers: list[str]
+    rows: list[list[str]]
+    align: str  # one of 'l' / 'r' per column
+    notes: list[str] = field(default_factory=list)
+
+
+# --- number formatting ------------------------------------------------------------
+
+def fmt_ms(x: float) -> str:
+    """Milliseconds with about four significant digits."""
+    if x is None or not math.isfinite(x):
+        return MISSING
+    if abs(x) >= 100:
+        return f"{x:.1f}"
+    if abs(x) >= 10:
+        return f"{x:.2f}"
+    return f"{x:.3f}"
+
+
+def fmt_fixed(x: float, digits: int = 3) -> str:
+    return MISSING if x is None or not math.isfinite(x) else f"{x:.{digits}f}"
+
+
+def fmt_sig(x: float, digits: int = 3) -> str:
+    """Significant digits, for values spanning magnitudes (Karp-Flatt)."""
+    if x is None or not math.isfinite(x):
+        return MISSING
+    return f"{x:.{digits}g}" if abs(x) >= 1e-4 or x == 0 else f"{x:.{digits - 1}e}"
+
+
+def fmt_percent(x: float) -> str:
+    return MISSING if x is None or not math.isfinite(x) else f"{x:.1%}"
+
+
+def fmt_int(x) -> str:
+    return MISSING if x is None or (isinstance(x, float) and not math.isfinite(x)) else str(int(x))
+
+
+# --- rendering ------------------------------------------------------------------
+
+def to_markdown(table: Table) -> str:
+    """A GitHub-flavoured Markdown table with its title and notes."""
+    def cells(values: list[str]) -> str:
+        return "| " + " | ".join(v.replace("|", "\\|") for v in values) + " |"
+
+    rule = "|" + "|".join(":--" if a == "l" else "--:" for a in table.align) + "|"
+    lines = [f"**{table.title}**", "", cells(table.headers), rule, *(cells(r) for r in table.rows)]
+    for note in table.notes:
+        lines += ["", note]
+    return "\n".join(lines) + "\n"
+
+
+LATEX_SPECIALS = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
+                  "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}", "–": "--",
+                  "×": r"$\times$", "±": r"$\pm$", "→": r"$\rightarrow$"}
+
+
+def latex_escape(text: str) -> str:
+    return "".join(LATEX_SPECIALS.get(ch, ch) for ch in text)
+
+
+def to_latex(table: Table) -> str:
+    """A booktabs table environment (needs \\usepackage{booktabs})."""
+    def cells(values: list[str]) -> str:
+        return " & ".join(latex_escape(v) for v in values) + r" \\"
+
+    lines = [
+        r"\begin{table}[ht]", r"\centering", rf"\caption{{{latex_escape(table.title)}}}",
+        rf"\label{{tab:{table.slug}}}", rf"\begin{{tabular}}{{{table.align}}}", r"\toprule", cells(table.headers),
+        r"\midrule", *(cells(r) for r in table.rows), r"\bottomrule", r"\end{tabular}",
+    ]
+    lines += [rf"\par\small {latex_escape(n)}" for n in table.notes]
+    lines.append(r"\end{table}")
+    return "\n".join(lines) + "\n"
+
+
+# --- choosing configurations ---------------------------------------------------
+
+def sizes(summary: pd.DataFrame) -> list[tuple[int, int]]:
+    """Image sizes in the run, the one with the most configurations first
+    (ties: the larger image), which the thesis comparisons use."""
+    counts = summary.groupby([names.WIDTH, names.HEIGHT]).size().reset_index(name="n")
+    counts["area"] = counts[names.WIDTH] * counts[names.HEIGHT]
+    counts = counts.sort_values(["n", "area"], ascending=False)
+    return [(int(w), int(h)) for w, h in zip(counts[names.WIDTH], counts[names.HEIGHT])]
+
+
+def headline_rows(summary: pd.DataFrame) -> pd.DataFrame:
+    """One configuration per (scene, renderer, stage, size, build): the one with
+    the most threads x lanes, i.e. the whole machine, as in the thesis. All
+    others stay in the summary table."""
+    df = summary.assign(_p=summary[names.THREADS] * summary[names.LANES].clip(lower=1))
+    df = df.sort_values(["_p", names.LANES], ascending=False, kind="stable")
+    keys = [names.SCENE, names.RENDERER, names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    return df.drop_duplicates(keys).drop(columns="_p")
+
+
+def _at_size(df: pd.DataFrame, size: tuple[int, int]) -> pd.DataFrame:
+    return df[(df[names.WIDTH] == size[0]) & (df[names.HEIGHT] == size[1])]
+
+
+def _lookup(df: pd.DataFrame, **match) -> pd.Series | None:
+    mask = pd.Series(True, index=df.index)
+    for column, value in match.items():
+        mask &= df[column] == value
+    hits = df[mask]
+    return None if hits.empty else hits.iloc[0]
+
+
+def _describe_config(row: pd.Series) -> str:
+    parts = []
+    if row[names.LANES] == names.GPU_LANES:
+        parts.append(row[names.DEVICE] or "device unknown")
+    else:
+        if row[names.THREADS] > 1:
+            parts.append(f"{row[names.THREADS]} threads")
+        if row[names.LANES] > 1:
+            parts.append(f"{row[names.LANES]} lanes {row[names.SIMD_TARGET]}".strip())
+    return ", ".join(parts)
+
+
+# --- builders ----------------------------------------------------------------------
+
+def thesis_mirror(summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int], scenes: list[str]) -> Table:
+    """Our run in the shape of one thesis table: scenes x renderers, median
+    render time per frame."""
+    heads = _at_size(headline_rows(summary), size)
+    heads = heads[heads[names.STAGE] == spec.stage]
+    rows, used = [], {}
+    for scene in scenes:
+        row = [scene]
+        for renderer in spec.renderers:
+            hit = _lookup(heads, **{names.SCENE: scene, names.RENDERER: renderer})
+            row.append(fmt_ms(hit["median"]) if hit is not None else MISSING)
+            if hit is not None and _describe_config(hit):
+                used.setdefault(renderer, _describe_config(hit))
+        rows.append(row)
+    notes = [f"Median render_ms of the measured frames, {size[0]}x{size[1]}, stage {spec.stage}; "
+             f"{MISSING} = not in this run."]
+    if used:
+        notes.append("Configurations: " + "; ".join(f"{r}: {d}" for r, d in used.items()) + ".")
+    return Table(f"table{spec.number}-{spec.stage}", f"Table {spec.number} ({spec.stage}): render time per frame [ms]",
+                 ["scene", *spec.renderers], rows, "l" + "r" * len(spec.renderers), notes)
+
+
+def side_by_side(summary: pd.DataFrame, thesis_tables: pd.DataFrame, size: tuple[int, int]) -> Table:
+    """Every published figure next to ours: times (not comparable across
+    machines and -O0 vs -O3) and speedups over the reference (comparable)."""
+    reference = names.reference_renderer()
+    heads = _at_size(headline_rows(summary), size)
+    rows = []
+    for rec in thesis_tables.itertuples(index=False):
+        ours = _lookup(heads, **{names.SCENE: rec.scene, names.RENDERER: rec.renderer, names.STAGE: rec.stage})
+        ours_ref = _lookup(heads, **{names.SCENE: rec.scene, names.RENDERER: reference, names.STAGE: rec.stage})
+        thesis_ref = thesis_tables[(thesis_tables["stage"] == rec.stage) & (thesis_tables["scene"] == rec.scene)
+                                   & (thesis_tables["renderer"] == reference)]["ms"]
+        ours_ms = ours["median"] if ours is not None else math.nan
+        ref_ms = ours_ref["median"] if ours_ref is not None else math.nan
+        thesis_s = thesis_ref.iloc[0] / rec.ms if len(thesis_ref) else math.nan
+        rows.append([str(rec.table), rec.stage, rec.renderer, rec.scene, fmt_ms(rec.ms), fmt_ms(ours_ms),
+                     fmt_fixed(thesis_s), fmt_fixed(ref_ms / ours_ms if ours_ms > 0 else math.nan)])
+    return Table(
+        "thesis-vs-ours", f"The thesis' published times beside ours ({size[0]}x{size[1]})",
+        ["table", "stage", "renderer", "scene", "thesis ms", "ours ms", f"thesis S vs {reference}", f"ours S vs {reference}"],
+        rows, "lllrrrrr",
+        [f"Thesis: mean per frame, 800x600, Apple M1, -O0. Ours: median per frame on this run's machine and build. "
+         f"Times differ by machine and compiler settings; the speedups over {reference} are what compares."],
+    )
+
+
+def stage_effects(summary: pd.DataFrame, thesis_tables: pd.DataFrame, size: tuple[int, int]) -> Table:
+    """What each step of the thesis' story buys, per renderer and scene: the
+    single-pass algorithm over the two-pass original, then the extra early
+    exits; as time ratios (> 1 = faster), ours beside the thesis'."""
+    stage_names = list(names.STAGES)
+    heads = _at_size(headline_rows(summary), size)
+    published = thesis_tables.drop_duplicates(["stage", "renderer", "scene"])
+    rows = []
+    for scene in pd.unique(heads[names.SCENE]):
+        for renderer in sorted(pd.unique(heads[names.RENDERER]), key=names.renderer_order):
+            ours = [_median_of(heads, scene, renderer, st) for st in stage_names]
+            theirs = [_thesis_ms(published, scene, renderer, st) for st in stage_names]
+            gains = [_ratio(ours[i], ours[i + 1]) for i in range(len(stage_names) - 1)]
+            thesis_gains = [_ratio(theirs[i], theirs[i + 1]) for i in range(len(stage_names) - 1)]
+            rows.append([scene, renderer, *map(fmt_ms, ours), *(f"{fmt_fixed(g, 2)} ({fmt_fixed(t, 2)})"
+                                                                  for g, t in zip(gains, thesis_gains))])
+    steps = [f"{a} → {b}" for a, b in zip(stage_names, stage_names[1:])]
+    return Table(
+        "stage-effects", f"What the stages change: median render_ms and speedup of each step ({size[0]}x{size[1]})",
+        ["scene", "renderer", *(f"{st} ms" for st in stage_names), *(f"{s} ours (thesis)" for s in steps)],
+        rows, "ll" + "r" * (2 * len(stage_names) - 1),
+        ["A step's speedup is the time before it divided by the time after it (> 1: the step helped). "
+         "The stages differ by algorithm (two-pass → single-pass) and early exits "
+         "(see schema/rt_schema.json); sphere and discriminant exits only change the SIMD renderers."],
+    )
+
+
+def _median_of(heads: pd.DataFrame, scene: str, renderer: str, stage: str) -> float:
+    hit = _lookup(heads, **{names.SCENE: scene, names.RENDERER: renderer, names.STAGE: stage})
+    return hit["median"] if hit is not None else math.nan
+
+
+def _thesis_ms(published: pd.DataFrame, scene: str, renderer: str, stage: str) -> float:
+    hit = published[(published["scene"] == scene) & (published["renderer"] == renderer) & (published["stage"] == stage)]
+    return float(hit["ms"].iloc[0]) if len(hit) else math.nan
+
+
+def _ratio(before: float, after: float) -> float:
+    return before / after if before > 0 and after > 0 else math.nan
+
+
+def metrics_our(metrics: pd.DataFrame) -> Table:
+    """Speedup and Karp-Flatt of every configuration of our run."""
+    rows = []
+    for r in metrics.itertuples(index=False):
+        d = r._asdict()
+        rows.append([d[names.STAGE], d[names.SCENE], d[names.RENDERER], f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
+                     fmt_int(d[names.THREADS]), fmt_int(d[names.LANES]), d[names.SIMD_TARGET] or d[names.DEVICE] or "",
+                     fmt_ms(d["ref_median"]), fmt_ms(d["median"]),
+                     f"{fmt_fixed(d['speedup'])} [{fmt_fixed(d['speedup_low'], 2)}, {fmt_fixed(d['speedup_high'], 2)}]",
+                     fmt_int(d["p"]) if math.isfinite(d["p"]) else MISSING, fmt_sig(d["karp_flatt"])])
+    reference = names.reference_renderer()
+    return Table(
+        "metrics", f"Speedup over {reference} and Karp-Flatt metric (our run)",
+        ["stage", "scene", "renderer", "size", "threads", "lanes", "target / device", f"{reference} ms", "ms",
+         "S [range]", "p", "e"],
+        rows, "llllrrlrrrrr",
+        ["S = T_ref / T (medians); range from the bootstrap CIs; e = (1/S - 1/p)/(1 - 1/p). "
+         "p = threads x lanes on the CPU; on the GPU the per-device estimate of data/gpu_processors.toml "
+         "(or --gpu-p). e is undefined for p = 1."],
+    )
+
+
+def metrics_vs_thesis(thesis_metrics: pd.DataFrame, metrics: pd.DataFrame, size: tuple[int, int]) -> Table:
+    """The thesis' stated metrics, what its table gives, and ours."""
+    ours = _at_size(headline_rows(metrics), size)
+    rows = []
+    for r in thesis_metrics.itertuples(index=False):
+        hit = _lookup(ours, **{names.STAGE: r.stage, names.SCENE: r.scene, names.RENDERER: r.renderer})
+        s, p, e = (hit["speedup"], hit["p"], hit["karp_flatt"]) if hit is not None else (math.nan,) * 3
+        rows.append([r.stage, r.scene, r.renderer, fmt_fixed(r.speedup_reported), fmt_fixed(r.speedup_recomputed),
+                     fmt_int(r.p), fmt_sig(r.karp_flatt_reported), fmt_sig(r.karp_flatt_recomputed),
+                     fmt_fixed(s), fmt_int(p) if math.isfinite(p) else MISSING, fmt_sig(e)])
+    return Table(
+        "metrics-vs-thesis", "Speedup and Karp-Flatt: the thesis as stated, as its own table gives, and ours",
+        ["stage", "scene", "renderer", "thesis S stated", "thesis S from its table", "thesis p", "thesis e stated",
+         "thesis e from its table", "ours S", "ours p", "ours e"],
+        rows, "lllrrrrrrrr",
+        ["'stated' is what the thesis' text says; 'from its table' recomputes the metric from its published "
+         "times with its own p. Ours: the headline configuration of this run at the same stage and scene."],
+    )
+
+
+def summary_table(summary: pd.DataFrame) -> Table:
+    """Every configuration with every statistic (warm-up frames excluded)."""
+    rows = []
+    for r in summary.itertuples(index=False):
+        d = r._asdict()
+        rows.append([d[names.STAGE], d[names.SCENE], d[names.RENDERER], f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
+                     fmt_int(d[names.THREADS]), fmt_int(d[names.LANES]), d[names.SIMD_TARGET] or d[names.DEVICE] or "",
+                     fmt_int(d["n"]), fmt_ms(d["median"]), f"[{fmt_ms(d['ci_low'])}, {fmt_ms(d['ci_high'])}]",
+                     fmt_ms(d["mean"]), fmt_ms(d["std"]), fmt_ms(d["mad"]), fmt_ms(d["p95"]), fmt_ms(d["p99"]),
+                     fmt_int(d["outliers"]), fmt_int(d["repetitions"]), fmt_percent(d["rep_spread"])])
+    return Table(
+        "summary", "Every configuration: render time per frame [ms]",
+        ["stage", "scene", "renderer", "size", "threads", "lanes", "target / device", "n", "median", "95% CI",
+         "mean", "std", "MAD", "p95", "p99", "outliers", "reps", "rep spread"],
+        rows, "llllrrlrrrrrrrrrrr",
+        ["n = measured frames over all repetitions; CI = bootstrap 95% CI of the median (2000 resamples, seeded); "
+         "outliers = frames with |modified z| > 3.5 (flagged, kept); rep spread = coefficient of variation of the "
+         "per-repetition medians."],
+    )
+
+
+def thesis_published(thesis_metrics: pd.DataFrame) -> Table:
+    """The thesis' stated metrics against its own table, alone (no run needed)."""
+    rows = [[r.stage, r.scene, r.renderer, fmt_ms(r.ref_ms), fmt_ms(r.ms), fmt_int(r.p), fmt_fixed(r.speedup_reported),
+             fmt_fixed(r.speedup_recomputed), fmt_sig(r.karp_flatt_reported), fmt_sig(r.karp_flatt_recomputed)]
+            for r in thesis_metrics.itertuples(index=False)]
+    reference = names.reference_renderer()
+    return Table(
+        "thesis-metrics-recomputed", "The thesis' metrics: stated vs recomputed from its own published times",
+        ["stage", "scene", "renderer", f"T {reference} ms", "T ms", "p", "S stated", "S recomputed", "e stated",
+         "e recomputed"],
+        rows, "lllrrrrrrr",
+    )

@@ -1,0 +1,136 @@
+"""Profiles: the shipped ones are valid and describe the study; expansion,
+overrides, interleaving and errors."""
+
+import textwrap
+from pathlib import Path
+
+import pytest
+from rtbench import names, profiles
+from rtbench.profiles import ProfileError
+
+SHIPPED = sorted(p.stem for p in profiles.PROFILES_DIR.glob("*.toml"))
+
+
+def _expand(name, cpu_count=2, **kw):
+    profile = profiles.load_profile(name)
+    scenes = [profiles.resolve_scene(s) for s in profile.scenes]
+    return profile, profiles.expand(profile, scenes, cpu_count, **kw)
+
+
+def test_the_required_profiles_exist():
+    assert {"paper", "quick", "scaling", "tracy"} <= set(SHIPPED)
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_every_shipped_profile_loads_and_expands(name):
+    profile, configs = _expand(name)
+    assert configs and profile.description
+    assert len({c.id for c in configs}) == len(configs)
+    for c in configs:
+        argv = c.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
+        assert argv[1] == names.RENDERER_FLAGS[c.renderer]
+        assert argv[-5:] == ["--csv", "x.csv", "--meta", "x.meta.json", "--quiet"]
+
+
+def test_paper_covers_the_thesis_tables():
+    profile, configs = _expand("paper")
+    cells = {(c.scene, c.renderer, c.variant.label) for c in configs}
+    for scene in ("default", "random20", "random100"):
+        for renderer in names.RENDERERS:
+            for stage in names.STAGES:
+                assert (scene, renderer, stage) in cells
+    assert profile.repetitions >= 3 and profile.interleave != "blocked"
+    sizes = {(c.width, c.height) for c in configs}
+    assert len(sizes) == 1, "speedups must compare equal work: one image size"
+
+
+def test_scaling_runs_every_thread_count_and_both_lane_widths():
+    _, configs = _expand("scaling", cpu_count=4)
+    threaded = [dict(c.axes) for c in configs if "threads" in dict(c.axes)]
+    assert {a["threads"] for a in threaded} == {"1", "2", "3", "4"}
+    assert {a.get("lanes") for a in threaded} >= {"4", "native"}
+
+
+def test_threads_values():
+    assert profiles.parse_threads("all", 6) == [6]
+    assert profiles.parse_threads("2..all", 4) == [2, 3, 4]
+    assert profiles.parse_threads(3, 4) == [3]
+    with pytest.raises(ProfileError):
+        profiles.parse_threads("zero", 4)
+
+
+def test_overrides_change_frames_of_matching_cells_only():
+    _, configs = _expand("paper")
+    by_cell = {(c.renderer, c.variant.label, c.scene): c for c in configs}
+    ref = names.reference_renderer()
+    assert by_cell[(ref, "original", "random100")].frames < by_cell[(ref, "optimized", "random100")].frames
+
+
+def test_forced_values_and_renderer_filter_win():
+    _, configs = _expand("paper", renderers=[names.reference_renderer()], forced={"width": 32, "frames": 2})
+    assert {c.renderer for c in configs} == {names.reference_renderer()}
+    assert {(c.width, c.frames) for c in configs} == {(32, 2)}
+
+
+def test_round_robin_alternates_renderers_and_shuffle_is_seeded():
+    _, configs = _expand("quick")
+    order = profiles.schedule(configs, 2, "round-robin", 1)
+    assert [rep for rep, _ in order] == [0] * len(configs) + [1] * len(configs)
+    firsts = [c.renderer for _, c in order[: len(names.RENDERERS)]]
+    assert firsts == names.RENDERERS  # consecutive runs change renderer
+    a = profiles.schedule(configs, 2, "shuffle", 5)
+    assert a == profiles.schedule(configs, 2, "shuffle", 5)
+    assert a != profiles.schedule(configs, 2, "shuffle", 6)
+    assert sorted(c.id for _, c in a) == sorted(c.id for _, c in order)
+    blocked = profiles.schedule(configs, 2, "blocked", 1)
+    assert blocked[0][1] == blocked[1][1]
+
+
+def test_explicit_algorithm_and_early_exits_become_their_own_variant(tmp_path):
+    path = _write(tmp_path, """
+        description = "ablation"
+        scenes = ["default"]
+        stages = ["optimized", {algorithm = "two-pass", early_exits = ["bounce"]},
+                  {algorithm = "single-pass", early_exits = ["bounce"]}]
+        [renderers.sequential]
+    """)
+    variants = profiles.load_profile(str(path)).variants
+    assert [v.label for v in variants] == ["optimized", "two-pass[bounce]", "single-pass"]
+    assert variants[1].args() == ["--algorithm", "two-pass", "--early-exit", "bounce"]
+
+
+def _write(tmp_path, text):
+    path = tmp_path / "p.toml"
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+@pytest.mark.parametrize(
+    "body, message",
+    [
+        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\nbogus = 1\n[renderers.sequential]\n', "bogus"),
+        ('description = "x"\nscenes = ["default"]\nstages = ["fast"]\n[renderers.sequential]\n', "fast"),
+        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.turbo]\n', "turbo"),
+        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\nframes = 0\n[renderers.sequential]\n', "frames"),
+        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.simd_tbb]\nwarp = [1]\n', "warp"),
+        ('description = "x"\nstages = ["optimized"]\n[renderers.sequential]\n', "scenes"),
+        ('description = "x"\nscenes = [\n', "TOML"),
+    ],
+)
+def test_bad_profiles_are_rejected_naming_file_and_key(tmp_path, body, message):
+    path = tmp_path / "bad.toml"
+    path.write_text(body)
+    with pytest.raises(ProfileError) as e:
+        profiles.load_profile(str(path))
+    assert str(path) in str(e.value) and message in str(e.value)
+
+
+def test_scenes_by_name_or_path(tmp_path):
+    assert profiles.resolve_scene("random20") == (profiles.SCENES_DIR / "random20.json").resolve()
+    own = tmp_path / "mine.json"
+    own.write_text("{}")
+    assert profiles.resolve_scene(str(own)) == own.resolve()
+    with pytest.raises(ProfileError, match="nosuch"):
+        profiles.resolve_scene("nosuch")
+    with pytest.raises(ProfileError, match="no profile 'nosuch'"):
+        profiles.load_profile("nosuch")
