@@ -18,7 +18,9 @@ namespace rt {
 // Owns the thread limit for as long as the renderer lives (a temporary
 // global_control would lift it again at once) and splits frames into spans
 // of one row each. A span's first pixel is a multiple of `alignment` (the
-// SIMD packet width), so packets never straddle two spans.
+// SIMD packet width), so packets never straddle two spans. Threads write
+// disjoint runs of the working buffer (whole rows, or 256-byte tile rows),
+// so two of them can share at most the one cache line at a span's edge.
 class RowScheduler {
  public:
   // Throws std::invalid_argument for threads < 0 or grain < 1.
