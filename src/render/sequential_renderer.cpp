@@ -1,5 +1,6 @@
 #include "render/sequential_renderer.h"
 
+#include "render/row_bands.h"
 #include "render/scalar_rows.h"
 
 namespace rt {
@@ -15,7 +16,9 @@ void SequentialRenderer::render(const CameraFrame& camera) {
   const Extent e = extent();
   Image& frame = workingBuffer();
   visitScalarVariant(options(), [&]<Algorithm kAlgorithm, bool kBounce>() {
-    for (int y = 0; y < e.height; ++y) renderScalarRow<float, kAlgorithm, kBounce>(inputs_, camera, e, y, frame.row(y));
+    forEachRowBand(e.height, [&](int y) {
+      renderScalarRow<float, kAlgorithm, kBounce>(inputs_, camera, e, y, frame.row(y));
+    });
   });
 }
 

@@ -1,5 +1,6 @@
 #include "render/simd/simd_renderer.h"
 
+#include "render/row_bands.h"
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -112,7 +113,8 @@ void SIMDRenderer::render(const CameraFrame& camera) {
   const simd::FrameParams params = frameParams(camera);
   const Extent e = extent();
   if (!scheduler_) {
-    for (int y = 0; y < e.height; ++y) kernel_(params, y, 0, e.width, scratchOf(0));
+    const std::span<float> scratch = scratchOf(0);
+    forEachRowBand(e.height, [&](int y) { kernel_(params, y, 0, e.width, scratch); });
     return;
   }
   scheduler_->forEachSpan(e, kernels_.lanes, [&](int slot, int y, int x0, int x1) {
