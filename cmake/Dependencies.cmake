@@ -40,6 +40,10 @@ rt_require_package(glm libglm-dev)
 rt_require_package(nlohmann_json nlohmann-json3-dev)
 rt_require_package(CLI11 libcli11-dev)
 rt_require_pkg_config(STB stb libstb-dev)
+# Threads of the simd_tbb and tbb_only renderers.
+rt_require_package(TBB libtbb-dev)
+# SIMD packets with run-time dispatch; 1.0.x API (Debian 12 ships 1.0.3).
+rt_require_package(hwy libhwy-dev)
 # Vulkan: only the headers are used at build time; the loader is opened at
 # run time (src/gpu/context.cpp), so the binary starts without it.
 rt_require_package(Vulkan libvulkan-dev)
@@ -58,5 +62,7 @@ set(RT_LIBRARY_VERSIONS
   "nlohmann_json=${nlohmann_json_VERSION}"
   "CLI11=${CLI11_VERSION}"
   "stb=${STB_VERSION}"
+  "TBB=${TBB_VERSION}"
+  "hwy=${hwy_VERSION}"
   "vulkan_headers=${Vulkan_VERSION}"
   "glslang=${RT_GLSLANG_VERSION}")

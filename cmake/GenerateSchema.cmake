@@ -44,6 +44,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_json_names(algorithms "${json}" algorithms)
   rt_json_names(early_exits "${json}" early_exits)
   rt_json_names(stages "${json}" stages)
+  rt_json_names(partitions "${json}" partitions)
   rt_json_names(present_modes "${json}" present_modes)
   rt_json_names(columns "${json}" frame_csv)
   rt_json_names(meta_keys "${json}" run_metadata)
@@ -53,6 +54,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_enum_block(b_algorithms Algorithm "${algorithms}")
   rt_enum_block(b_exits EarlyExit "${early_exits}")
   rt_enum_block(b_stages Stage "${stages}")
+  rt_enum_block(b_partitions Partition "${partitions}")
   rt_enum_block(b_present PresentMode "${present_modes}")
   rt_enum_block(b_columns FrameCsvColumn "${columns}")
   rt_enum_block(b_meta RunMetadataKey "${meta_keys}")
@@ -91,7 +93,7 @@ function(rt_generate_schema_header json_path header_path)
 "// Generated from schema/rt_schema.json by cmake/GenerateSchema.cmake. Do not edit.\n\
 #pragma once\n#include <array>\n#include <string_view>\n\nnamespace rt::schema {\n\n\
 inline constexpr int kVersion = ${version};\n\n\
-${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_stages}${b_present}${b_columns}${b_meta}\
+${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_stages}${b_partitions}${b_present}${b_columns}${b_meta}\
 inline constexpr std::array<std::string_view, ${n_renderers}> kRendererFlags{\n${flags}};\n\n\
 struct StageDefinition {\n  Algorithm algorithm;\n  unsigned earlyExitMask;\n};\n\
 inline constexpr std::array<StageDefinition, ${n_stages}> kStageDefinitions{{\n${stage_defs}}};\n\n\

@@ -38,6 +38,8 @@ RENDERER = _column("renderer")
 THREADS = _column("threads")
 LANES = _column("lanes")
 SIMD_TARGET = _column("simd_target")
+GRAIN = _column("grain")
+PARTITION = _column("partition")
 ALGORITHM = _column("algorithm")
 EARLY_EXIT = _column("early_exit")
 WIDTH = _column("width")
@@ -67,7 +69,8 @@ GIT_COMMIT = "git_commit"
 GIT_DIRTY = "git_dirty"
 
 # The columns that identify one configuration in the tidy frame.
-CONFIG_KEYS = [SCENE, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, THREADS, LANES, SIMD_TARGET, WIDTH, HEIGHT, DEVICE, BUILD_TYPE]
+CONFIG_KEYS = [SCENE, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,
+               DEVICE, BUILD_TYPE]
 
 # The schema's `lanes` column: "1 for scalar renderers, 0 for gpu".
 GPU_LANES = 0

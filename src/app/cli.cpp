@@ -55,6 +55,28 @@ SaveFrameRequest parseSaveFrame(const std::string& text) {
   return request;
 }
 
+bool usesTbb(RendererKind kind) { return kind == RendererKind::simd_tbb || kind == RendererKind::tbb_only; }
+bool usesSimd(RendererKind kind) { return kind == RendererKind::simd_tbb || kind == RendererKind::simd_only; }
+
+// The parallel options only mean something to some renderers; a run that
+// records a setting its renderer ignored would mislabel its CSV rows.
+void checkParallelOptionsApply(RendererKind kind, const CLI::Option& threads, const CLI::Option& lanes,
+                               const CLI::Option& grain, const CLI::Option& partition, int threadCount) {
+  const std::string renderer(nameOf(kind));
+  if (threads && !usesTbb(kind) && threadCount != 1) {
+    throw CLI::ValidationError("--threads", "renderer " + renderer + " runs on one thread; --threads applies to --simd and --tbb-only");
+  }
+  if (lanes && !usesSimd(kind)) {
+    throw CLI::ValidationError("--lanes", "renderer " + renderer + " has no SIMD packets; --lanes applies to --simd and --simd-only");
+  }
+  for (const CLI::Option* option : {&grain, &partition}) {
+    if (*option && !usesTbb(kind)) {
+      throw CLI::ValidationError(option->get_name(), "renderer " + renderer + " does not use oneTBB; " +
+                                                         option->get_name() + " applies to --simd and --tbb-only");
+    }
+  }
+}
+
 void requireExistingDirectory(const std::filesystem::path& file, const std::string& option) {
   const auto dir = file.parent_path();
   if (!dir.empty() && !std::filesystem::is_directory(dir)) {
@@ -102,6 +124,18 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
                        ->check(CLI::IsMember(std::vector<std::string>(schema::kStageNames.begin(),
                                                                       schema::kStageNames.end())));
   stageOpt->excludes(algorithmOpt)->excludes(exitOpt);
+  auto* threadsOpt = app.add_option("--threads", config.parallel.threads, "oneTBB threads")
+                         ->check(CLI::Range(1, 4096))
+                         ->default_str("all cores");
+  std::string lanes = "native";
+  auto* lanesOpt = app.add_option("--lanes", lanes, "pixels per SIMD packet: native (widest vector)|4|8|16")
+                       ->check(CLI::IsMember({"native", "4", "8", "16"}));
+  auto* grainOpt = app.add_option("--grain", config.parallel.grain, "oneTBB grain size in rows")
+                       ->check(CLI::Range(1, 16384));
+  std::string partition(nameOf(config.parallel.partition));
+  auto* partitionOpt = app.add_option("--partition", partition, "oneTBB work split: rows|tiles (rows x 64 px)")
+                           ->check(CLI::IsMember(std::vector<std::string>(schema::kPartitionNames.begin(),
+                                                                          schema::kPartitionNames.end())));
   std::string csv, meta;
   auto* csvOpt = app.add_option("--csv", csv, "write one row per frame to this CSV file");
   auto* metaOpt = app.add_option("--meta", meta, "write the run's metadata here (default: CSV path .meta.json)");
@@ -131,6 +165,9 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     if (chosen > 1) throw CLI::ValidationError("renderer", "choose one of the renderer flags");
     if (chosen == 1) config.renderer = static_cast<RendererKind>(std::ranges::find(rendererFlags, true) - rendererFlags.begin());
     config.scenePath = scene;
+    checkParallelOptionsApply(config.renderer, *threadsOpt, *lanesOpt, *grainOpt, *partitionOpt, config.parallel.threads);
+    config.parallel.lanes = lanes == "native" ? ParallelSettings::kNativeLanes : std::stoi(lanes);
+    config.parallel.partition = *enumByName<Partition>(schema::kPartitionNames, partition);
 #ifndef TRACY_ENABLE
     if (config.tracyWait) {
       throw CLI::ValidationError("--tracy-wait", "this build has no Tracy client (use the 'profile' preset)");
@@ -164,7 +201,8 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   } catch (const CLI::CallForHelp&) {
     return CliExit{0, app.help(), ""};
   } catch (const CLI::ParseError& e) {
-    // The error comes last, where a tail of stderr (the bench runner's) still shows it.
+    // The message goes last, after the usage: whoever keeps only the tail
+    // of stderr (the bench runner) or its last line still sees the reason.
     return CliExit{kExitBadInput, "", app.help() + "\nraytracer: " + e.what() + "\n"};
   }
   return config;

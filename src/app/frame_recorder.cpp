@@ -37,6 +37,10 @@ void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id,
     case FrameCsvColumn::threads: return appendText(out, std::to_string(id.renderer.threads));
     case FrameCsvColumn::lanes: return appendText(out, std::to_string(id.renderer.lanes));
     case FrameCsvColumn::simd_target: return appendText(out, id.renderer.simdTarget);
+    case FrameCsvColumn::grain: return appendText(out, std::to_string(id.renderer.grain.value_or(0)));
+    case FrameCsvColumn::partition:
+      if (id.renderer.partition) appendText(out, nameOf(*id.renderer.partition));
+      return;
     case FrameCsvColumn::algorithm: return appendText(out, nameOf(id.options.algorithm));
     case FrameCsvColumn::early_exit: return appendText(out, id.options.earlyExits.toString());
     case FrameCsvColumn::width: return appendText(out, std::to_string(id.extent.width));

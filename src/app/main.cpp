@@ -43,6 +43,10 @@ void printSummary(const rt::RunIdentity& id, std::span<const rt::FrameRecord> re
   std::printf("%s  %s  %dx%d  %s  early_exit=%s  %zu frames\n", std::string(rt::nameOf(id.renderer.kind)).c_str(),
               id.scene.c_str(), id.extent.width, id.extent.height, std::string(rt::nameOf(id.options.algorithm)).c_str(),
               id.options.earlyExits.toString().c_str(), render.size());
+  if (!id.renderer.simdTarget.empty() || id.renderer.grain) {
+    std::printf("  threads=%d  lanes=%d  simd_target=%s\n", id.renderer.threads, id.renderer.lanes,
+                id.renderer.simdTarget.empty() ? "-" : id.renderer.simdTarget.c_str());
+  }
   std::printf("  render_ms  median %.3f  min %.3f  max %.3f   (%.2f Mprimary-rays/s)\n", renderMedian,
               *std::ranges::min_element(render), *std::ranges::max_element(render), mrays);
   std::printf("  update_ms  median %.4f   present_ms median %.3f  (present %s)\n", median(update), median(present),
@@ -107,7 +111,7 @@ int validationVerdict(const rt::gpu::ValidationCounter* validation) {
 // validation counter of the device used (null without --vk-validation).
 std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunConfig& config, const rt::Scene& scene) {
   const rt::DeviceSetup setup = rt::setUpDevice(config, std::cerr);
-  auto renderer = rt::makeRenderer(config.renderer, setup.present);
+  auto renderer = rt::makeRenderer(config.renderer, config.parallel, setup.present);
 
   rt::RunTimes times{std::chrono::system_clock::now(), {}};
   rt::RunIdentity identity{rt::makeRunId(times.startedAt), scene.name, renderer->info(), config.options,

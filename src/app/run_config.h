@@ -23,6 +23,7 @@ struct RunConfig {
   int warmupFrames = 3;
   int measuredFrames = 20;
   RenderOptions options;  // default: stage "optimized"
+  ParallelSettings parallel;  // --threads, --lanes, --grain, --partition
   std::optional<std::filesystem::path> csvPath;
   std::optional<std::filesystem::path> metaPath;
   std::vector<SaveFrameRequest> saveFrames;

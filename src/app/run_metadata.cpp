@@ -79,6 +79,8 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
           {"threads", id.renderer.threads},
           {"lanes", id.renderer.lanes},
           {"simd_target", id.renderer.simdTarget},
+          {"grain", id.renderer.grain.value_or(0)},  // as in the CSV: 0 and "" without oneTBB
+          {"partition", id.renderer.partition ? nameOf(*id.renderer.partition) : ""},
           {"algorithm", nameOf(id.options.algorithm)},
           {"early_exit", id.options.earlyExits.toString()},
           {"width", id.extent.width},

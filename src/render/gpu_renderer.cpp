@@ -99,7 +99,13 @@ GPURenderer::GPURenderer(PresentSetup setup) : setup_(std::move(setup)) {
 
 GPURenderer::~GPURenderer() = default;
 
-RendererInfo GPURenderer::info() const { return {RendererKind::gpu, 0, 0, ""}; }
+RendererInfo GPURenderer::info() const {
+  RendererInfo info;
+  info.kind = RendererKind::gpu;
+  info.threads = 0;  // the device schedules the work
+  info.lanes = 0;
+  return info;
+}
 
 void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
   if (scene.spheres.empty()) throw std::invalid_argument("the GPU renderer needs at least one sphere");

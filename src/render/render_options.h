@@ -8,6 +8,7 @@ namespace rt {
 
 using schema::Algorithm;
 using schema::EarlyExit;
+using schema::Partition;
 using schema::PresentMode;
 using schema::RendererKind;
 using schema::Stage;
@@ -38,6 +39,16 @@ struct RenderOptions {
 
 RenderOptions optionsForStage(Stage stage);
 
+// How the parallel CPU renderers run: --threads, --lanes, --grain, --partition.
+struct ParallelSettings {
+  static constexpr int kAllCores = 0;
+  static constexpr int kNativeLanes = 0;
+  int threads = kAllCores;  // oneTBB worker threads, the calling one included
+  int lanes = kNativeLanes; // pixels per SIMD packet; native = widest vector of the dispatched target
+  int grain = 1;            // oneTBB grain size in rows (blocked_range grainsize)
+  Partition partition = Partition::rows;
+};
+
 template <typename Enum>
 constexpr std::string_view nameOf(Enum value);
 template <>
@@ -50,5 +61,6 @@ template <>
 constexpr std::string_view nameOf(Stage v) { return schema::kStageNames[static_cast<int>(v)]; }
 template <>
 constexpr std::string_view nameOf(PresentMode v) { return schema::kPresentModeNames[static_cast<int>(v)]; }
+constexpr std::string_view nameOf(Partition v) { return schema::kPartitionNames[static_cast<int>(v)]; }
 
 }  // namespace rt

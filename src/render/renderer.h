@@ -15,6 +15,9 @@ struct RendererInfo {
   int threads = 1;
   int lanes = 1;
   std::string simdTarget;  // empty where no SIMD is used
+  // How oneTBB splits the frame; empty for renderers that do not use it.
+  std::optional<int> grain;
+  std::optional<Partition> partition;
 };
 
 // One of the thesis' interchangeable renderers. The interface is virtual

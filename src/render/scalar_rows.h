@@ -10,12 +10,13 @@
 
 namespace rt {
 
+// Pixels x0..x1-1 of row y (the threaded renderers hand out such spans).
 template <typename Real, Algorithm kAlgorithm, bool kBounceExit>
-void renderScalarRow(const kernel::ShadingInputs<Real>& in, const CameraFrame& camera, Extent extent, int y,
-                     std::span<Rgba8> row) {
+void renderScalarSpan(const kernel::ShadingInputs<Real>& in, const CameraFrame& camera, Extent extent, int y,
+                      int x0, int x1, std::span<Rgba8> row) {
   const kernel::Vec3<Real> origin(camera.position);
   [[maybe_unused]] std::array<kernel::PathSegment<Real>, kMaxDepthLimit> segments;
-  for (int x = 0; x < extent.width; ++x) {
+  for (int x = x0; x < x1; ++x) {
     const kernel::Ray<Real> ray{origin, glm::normalize(primaryRayDirection<Real>(camera, extent, x, y))};
     kernel::Vec3<Real> color;
     if constexpr (kAlgorithm == Algorithm::two_pass) {
@@ -25,6 +26,12 @@ void renderScalarRow(const kernel::ShadingInputs<Real>& in, const CameraFrame& c
     }
     row[static_cast<std::size_t>(x)] = kernel::toRgba8(color);
   }
+}
+
+template <typename Real, Algorithm kAlgorithm, bool kBounceExit>
+void renderScalarRow(const kernel::ShadingInputs<Real>& in, const CameraFrame& camera, Extent extent, int y,
+                     std::span<Rgba8> row) {
+  renderScalarSpan<Real, kAlgorithm, kBounceExit>(in, camera, extent, y, 0, extent.width, row);
 }
 
 // Calls visit.template operator()<Algorithm, bool>() with the variant the options select.

@@ -1,10 +1,11 @@
 #include "render/sequential_renderer.h"
 
+#include "render/row_bands.h"
 #include "render/scalar_rows.h"
 
 namespace rt {
 
-RendererInfo SequentialRenderer::info() const { return {RendererKind::sequential, 1, 1, ""}; }
+RendererInfo SequentialRenderer::info() const { return {RendererKind::sequential, 1, 1, "", std::nullopt, std::nullopt}; }
 
 void SequentialRenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
   CPURenderer::prepare(scene, extent, options);
@@ -15,7 +16,9 @@ void SequentialRenderer::render(const CameraFrame& camera) {
   const Extent e = extent();
   Image& frame = workingBuffer();
   visitScalarVariant(options(), [&]<Algorithm kAlgorithm, bool kBounce>() {
-    for (int y = 0; y < e.height; ++y) renderScalarRow<float, kAlgorithm, kBounce>(inputs_, camera, e, y, frame.row(y));
+    forEachRowBand(e.height, [&](int y) {
+      renderScalarRow<float, kAlgorithm, kBounce>(inputs_, camera, e, y, frame.row(y));
+    });
   });
 }
 

@@ -29,7 +29,7 @@ std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
 }
 
 RunIdentity identity() {
-  return {"20261122T000000Z-abcdef", "random100", {RendererKind::sequential, 1, 1, ""},
+  return {"20261122T000000Z-abcdef", "random100", {RendererKind::sequential, 1, 1, "", std::nullopt, std::nullopt},
           optionsForStage(Stage::single_pass), {800, 600}};
 }
 

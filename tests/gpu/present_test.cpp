@@ -108,7 +108,11 @@ TEST_F(PresentTest, CpuFramesHaveNoGpuTime) {
 // kept, and the error says what happened.
 class LosesDeviceAtFrameTwo final : public Renderer {
  public:
-  [[nodiscard]] RendererInfo info() const override { return {RendererKind::gpu, 0, 0, ""}; }
+  [[nodiscard]] RendererInfo info() const override {
+    RendererInfo info;
+    info.kind = RendererKind::gpu;
+    return info;
+  }
   void prepare(const Scene&, Extent, const RenderOptions&) override {}
   void render(const CameraFrame&) override {
     if (frames_++ == 2) throw gpu::DeviceError("Vulkan failure during render: ErrorDeviceLost");

@@ -8,6 +8,7 @@
 #include <new>
 
 #include "app/frame_recorder.h"
+#include "render/renderer_factory.h"
 #include "render/sequential_renderer.h"
 #include "scene/camera.h"
 #include "test_support.h"
@@ -46,6 +47,26 @@ TEST(NoAllocation, FramePhasesOfTheSequentialRenderer) {
         recorder.record(record);
       }
       EXPECT_EQ(gAllocations.load() - before, 0) << name << " stage " << nameOf(stage);
+    }
+  }
+}
+
+// The SIMD and oneTBB renderers size their scratch in prepare(); oneTBB's
+// own task storage does not go through operator new either.
+TEST(NoAllocation, FramePhasesOfTheParallelRenderers) {
+  const Scene scene = test::loadNamedScene("random20");
+  for (const RendererKind kind : {RendererKind::simd_tbb, RendererKind::simd_only, RendererKind::tbb_only}) {
+    for (const Stage stage : {Stage::original, Stage::optimized}) {
+      const auto renderer = makeRenderer(kind);
+      const Extent extent{67, 29};
+      renderer->prepare(scene, extent, optionsForStage(stage));
+      Image presented(extent);
+      const long before = gAllocations.load();
+      for (long long k = 0; k < 4; ++k) {
+        renderer->render(cameraAtFrame(scene.camera, k));
+        renderer->present(presented);
+      }
+      EXPECT_EQ(gAllocations.load() - before, 0) << nameOf(kind) << " stage " << nameOf(stage);
     }
   }
 }

@@ -1,0 +1,395 @@
+// The SIMD ray-tracing kernel: render-model.md sections 3-7 on packets of
+// horizontally adjacent pixels, one Highway lane per pixel. Compiled once
+// per target (simd_kernel.cc includes it through foreach_target.h), hence
+// the toggling include guard instead of #pragma once.
+//
+// It mirrors scalar_kernel.h operation for operation (same formulas, same
+// evaluation order, a masked lane where the scalar code branches), so the
+// image agrees with the sequential renderer; the only intended differences
+// are fused multiply-adds in the sphere test and the power function.
+
+#if defined(RT_RENDER_SIMD_PACKET_KERNEL_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef RT_RENDER_SIMD_PACKET_KERNEL_INL_H_
+#undef RT_RENDER_SIMD_PACKET_KERNEL_INL_H_
+#else
+#define RT_RENDER_SIMD_PACKET_KERNEL_INL_H_
+#endif
+
+#include <hwy/contrib/math/math-inl.h>
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <span>
+
+#include "model_constants.h"
+#include "render/simd/simd_kernel.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace rt::simd::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+template <class D>
+using VecF = hn::Vec<D>;
+template <class D>
+using MaskF = hn::Mask<D>;
+
+constexpr float kEpsilon = static_cast<float>(RT_HIT_EPSILON);
+
+// ---- Packet types (the thesis' Vec3_x4, Ray_x4, RaycastHit_x4) ----------
+
+template <class D>
+struct Vec3x {
+  VecF<D> x, y, z;
+};
+
+template <class D>
+struct RayX {
+  Vec3x<D> origin;
+  Vec3x<D> direction;  // unit in every lane
+};
+
+template <class D>
+struct HitX {
+  MaskF<D> hit;  // lanes that hit a sphere; the other lanes hold junk
+  Vec3x<D> position;
+  Vec3x<D> normal;
+  VecF<D> distance;
+  Vec3x<D> sphereColor;
+};
+
+// ---- Vec3x arithmetic: the same evaluation order as glm's ---------------
+
+template <class D>
+HWY_INLINE Vec3x<D> Broadcast(D d, const Float3& v) {
+  return {hn::Set(d, v[0]), hn::Set(d, v[1]), hn::Set(d, v[2])};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator+(const Vec3x<D>& a, const Vec3x<D>& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator-(const Vec3x<D>& a, const Vec3x<D>& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator*(const Vec3x<D>& a, const Vec3x<D>& b) {
+  return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator*(VecF<D> s, const Vec3x<D>& v) {
+  return {s * v.x, s * v.y, s * v.z};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator/(const Vec3x<D>& v, VecF<D> s) {
+  return {v.x / s, v.y / s, v.z / s};
+}
+template <class D>
+HWY_INLINE VecF<D> Dot(const Vec3x<D>& a, const Vec3x<D>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+// glm::normalize: v * (1 / sqrt(dot(v, v))).
+template <class D>
+HWY_INLINE Vec3x<D> Normalize(D d, const Vec3x<D>& v) {
+  return (hn::Set(d, 1.0f) / hn::Sqrt(Dot(v, v))) * v;
+}
+template <class D>
+HWY_INLINE Vec3x<D> Select(MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) {
+  return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z)};
+}
+
+// ---- Intersection (spec section 3) --------------------------------------
+
+// Nearest sphere per lane over all spheres, lower index on a tie. Lanes
+// outside `active` (past the row's end, or already missed) report no hit.
+// kSphereExit / kDiscriminantExit are the thesis' two SIMD early exits.
+template <bool kSphereExit, bool kDiscriminantExit, class D>
+HWY_INLINE void NearestSphere(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
+                              VecF<D>& bestIndex) {
+  const VecF<D> eps = hn::Set(d, kEpsilon);
+  bestT = hn::Set(d, std::numeric_limits<float>::infinity());
+  bestIndex = hn::Set(d, -1.0f);
+  const Vec3x<D>& o = ray.origin;
+  const Vec3x<D>& dir = ray.direction;
+  for (int i = 0; i < s.count; ++i) {
+    const VecF<D> ocx = o.x - hn::Set(d, s.centerX[i]);
+    const VecF<D> ocy = o.y - hn::Set(d, s.centerY[i]);
+    const VecF<D> ocz = o.z - hn::Set(d, s.centerZ[i]);
+    const VecF<D> b = hn::MulAdd(ocz, dir.z, hn::MulAdd(ocy, dir.y, ocx * dir.x));
+    // f = oc - b d: centre to the point of closest approach; disc = r^2 - |f|^2.
+    const VecF<D> fx = hn::NegMulAdd(b, dir.x, ocx);
+    const VecF<D> fy = hn::NegMulAdd(b, dir.y, ocy);
+    const VecF<D> fz = hn::NegMulAdd(b, dir.z, ocz);
+    const VecF<D> disc = hn::Set(d, s.radiusSquared[i]) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
+    const MaskF<D> real = hn::And(active, disc >= hn::Zero(d));
+    if constexpr (kDiscriminantExit) {
+      if (hn::AllFalse(d, real)) continue;  // before the sqrt and all that follows
+    }
+    const VecF<D> h = hn::Sqrt(disc);  // NaN where disc < 0; those lanes are not `real`
+    const VecF<D> minusB = hn::Zero(d) - b;
+    const VecF<D> near = minusB - h;
+    const VecF<D> t = hn::IfThenElse(near <= eps, minusB + h, near);
+    const MaskF<D> hit = hn::And(real, t > eps);
+    if constexpr (kSphereExit) {
+      if (hn::AllFalse(d, hit)) continue;  // no lane hits: skip the bookkeeping
+    }
+    const MaskF<D> closer = hn::And(hit, t < bestT);
+    bestT = hn::IfThenElse(closer, t, bestT);
+    bestIndex = hn::IfThenElse(closer, hn::Set(d, static_cast<float>(i)), bestIndex);
+  }
+}
+
+template <class D>
+HWY_INLINE Vec3x<D> Gather3(D d, const float* x, const float* y, const float* z, hn::Vec<hn::RebindToSigned<D>> i) {
+  return {hn::GatherIndex(d, x, i), hn::GatherIndex(d, y, i), hn::GatherIndex(d, z, i)};
+}
+
+// Out of line: the sphere loop is the bulk of the code, and this way it is
+// compiled 4 times per packet width, not once for each of the 16 variants
+// (the call costs nothing next to a loop over the scene's spheres).
+template <bool kSphereExit, bool kDiscriminantExit, class D>
+HWY_NOINLINE HitX<D> Raycast(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
+  VecF<D> bestT, bestIndex;
+  NearestSphere<kSphereExit, kDiscriminantExit>(d, s, ray, active, bestT, bestIndex);
+  HitX<D> h;
+  h.hit = bestIndex >= hn::Zero(d);
+  // Missed lanes read sphere 0 at distance 0: junk, but finite junk.
+  const hn::RebindToSigned<D> di;
+  const auto index = hn::ConvertTo(di, hn::Max(bestIndex, hn::Zero(d)));
+  h.distance = hn::IfThenElseZero(h.hit, bestT);
+  h.position = ray.origin + h.distance * ray.direction;
+  const Vec3x<D> center = Gather3(d, s.centerX, s.centerY, s.centerZ, index);
+  h.normal = (h.position - center) / hn::GatherIndex(d, s.radius, index);
+  h.sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index);
+  return h;
+}
+
+// ---- Shading (spec section 4) -------------------------------------------
+
+// x^e for x >= 0. Whole exponents (the scenes' 32) by repeated squaring,
+// which stays within a few ulp of std::pow; others through exp(e log x).
+template <class D>
+HWY_INLINE VecF<D> Power(D d, VecF<D> x, float exponent) {
+  constexpr float kMaxWholeExponent = 1 << 20;
+  if (exponent == static_cast<float>(static_cast<int>(std::min(exponent, kMaxWholeExponent)))) {
+    VecF<D> result = hn::Set(d, 1.0f);
+    for (auto e = static_cast<unsigned>(exponent); e != 0; e >>= 1) {
+      if (e & 1u) result = result * x;
+      x = x * x;
+    }
+    return result;
+  }
+  const VecF<D> positive = hn::Max(x, hn::Set(d, std::numeric_limits<float>::min()));
+  return hn::IfThenElseZero(x > hn::Zero(d), hn::Exp(d, hn::Set(d, exponent) * hn::Log(d, positive)));
+}
+
+// Phong with one directional light: ambient + diffuse + specular. Out of
+// line for the same reason as Raycast: once per packet width.
+template <class D>
+HWY_NOINLINE Vec3x<D> LocalColor(D d, const FrameParams& f, const HitX<D>& hit, const Vec3x<D>& direction) {
+  const Vec3x<D> l = Broadcast(d, f.toLight);
+  const Vec3x<D> lightColor = Broadcast(d, f.lightColor);
+  const Vec3x<D>& n = hit.normal;
+  const Vec3x<D> minusL = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - l;
+  const Vec3x<D> ambient = Broadcast(d, f.ambientColor) * hit.sphereColor;
+  const Vec3x<D> diffuse = (hn::Max(Dot(n, l), hn::Zero(d)) * lightColor) * hit.sphereColor;
+  const Vec3x<D> rr = minusL - (hn::Set(d, 2.0f) * Dot(minusL, n)) * n;  // reflect(-l, n)
+  const Vec3x<D> minusD = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - direction;
+  const VecF<D> highlight = Power(d, hn::Max(Dot(rr, minusD), hn::Zero(d)), f.shininess);
+  return ambient + diffuse + (hn::Set(d, f.specularStrength) * highlight) * lightColor;
+}
+
+// The bounce of spec section 5: offset origin, renormalised mirror direction.
+template <class D>
+HWY_INLINE RayX<D> Reflected(D d, const RayX<D>& ray, const HitX<D>& hit) {
+  const Vec3x<D>& dir = ray.direction;
+  const Vec3x<D>& n = hit.normal;
+  const Vec3x<D> origin = hit.position + hn::Set(d, kEpsilon) * n;
+  return {origin, Normalize(d, dir - (hn::Set(d, 2.0f) * Dot(dir, n)) * n)};
+}
+
+// ---- The two algorithms (spec section 5) --------------------------------
+
+// Single-pass: colour and throughput accumulate on the way down. A lane
+// that missed leaves `active`; since its ray would miss again, dropping it
+// equals the scalar kernel, which keeps tracing it with zero throughput.
+template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, class D>
+HWY_INLINE Vec3x<D> TraceSinglePass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active) {
+  const Vec3x<D> background = Broadcast(d, f.background);
+  const VecF<D> reflectivity = hn::Set(d, f.reflectivity);
+  Vec3x<D> color{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+  Vec3x<D> throughput{hn::Set(d, 1.0f), hn::Set(d, 1.0f), hn::Set(d, 1.0f)};
+  for (int depth = 0; depth < f.maxDepth; ++depth) {
+    const HitX<D> hit = Raycast<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active);
+    const MaskF<D> missed = hn::AndNot(hit.hit, active);
+    color = Select(missed, color + throughput * background, color);
+    color = Select(hit.hit, color + throughput * LocalColor(d, f, hit, ray.direction), color);
+    throughput = throughput * (reflectivity * hit.sphereColor);
+    ray = Reflected(d, ray, hit);
+    active = hit.hit;
+    if constexpr (kBounceExit) {
+      if (hn::AllFalse(d, active)) break;
+    }
+  }
+  return color;
+}
+
+// The two-pass forward pass' storage: per segment one ray, one hit and one
+// sphere colour packet, stored vector by vector into the thread's scratch.
+enum SegmentSlot : std::size_t {
+  kOriginX, kOriginY, kOriginZ, kDirectionX, kDirectionY, kDirectionZ,
+  kPositionX, kPositionY, kPositionZ, kNormalX, kNormalY, kNormalZ,
+  kDistance, kColorR, kColorG, kColorB, kHitMask, kSegmentSlots
+};
+static_assert(kSegmentSlots == kSegmentVectors, "scratch sizing in simd_kernel.h must match");
+
+template <class D>
+class SegmentStore {
+ public:
+  SegmentStore(D d, float* base) : d_(d), base_(base), lanes_(hn::Lanes(d)) {}
+
+  void put(int segment, const RayX<D>& ray, const HitX<D>& hit) const {
+    put3(segment, kOriginX, ray.origin);
+    put3(segment, kDirectionX, ray.direction);
+    put3(segment, kPositionX, hit.position);
+    put3(segment, kNormalX, hit.normal);
+    hn::Store(hit.distance, d_, at(segment, kDistance));
+    put3(segment, kColorR, hit.sphereColor);
+    hn::Store(hn::VecFromMask(d_, hit.hit), d_, at(segment, kHitMask));
+  }
+  void get(int segment, RayX<D>& ray, HitX<D>& hit) const {
+    ray.origin = get3(segment, kOriginX);
+    ray.direction = get3(segment, kDirectionX);
+    hit.position = get3(segment, kPositionX);
+    hit.normal = get3(segment, kNormalX);
+    hit.distance = hn::Load(d_, at(segment, kDistance));
+    hit.sphereColor = get3(segment, kColorR);
+    hit.hit = hn::MaskFromVec(hn::Load(d_, at(segment, kHitMask)));
+  }
+
+ private:
+  float* at(int segment, std::size_t slot) const {
+    return base_ + (static_cast<std::size_t>(segment) * kSegmentSlots + slot) * lanes_;
+  }
+  void put3(int segment, std::size_t first, const Vec3x<D>& v) const {
+    hn::Store(v.x, d_, at(segment, first));
+    hn::Store(v.y, d_, at(segment, first + 1));
+    hn::Store(v.z, d_, at(segment, first + 2));
+  }
+  Vec3x<D> get3(int segment, std::size_t first) const {
+    return {hn::Load(d_, at(segment, first)), hn::Load(d_, at(segment, first + 1)),
+            hn::Load(d_, at(segment, first + 2))};
+  }
+
+  D d_;
+  float* base_;
+  std::size_t lanes_;
+};
+
+// Two-pass (the thesis' original): the forward pass stores every segment,
+// the backward pass walks them from the last one. A lane's segments after
+// its miss are misses, as in the scalar kernel.
+template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, class D>
+HWY_INLINE Vec3x<D> TraceTwoPass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active, float* scratch) {
+  const SegmentStore<D> store(d, scratch);
+  int count = 0;
+  while (count < f.maxDepth) {
+    const HitX<D> hit = Raycast<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active);
+    store.put(count++, ray, hit);
+    ray = Reflected(d, ray, hit);
+    active = hit.hit;
+    if constexpr (kBounceExit) {
+      if (hn::AllFalse(d, active)) break;
+    }
+  }
+  const Vec3x<D> background = Broadcast(d, f.background);
+  const VecF<D> reflectivity = hn::Set(d, f.reflectivity);
+  Vec3x<D> acc{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+  for (int i = count - 1; i >= 0; --i) {
+    RayX<D> segmentRay;
+    HitX<D> hit;
+    store.get(i, segmentRay, hit);
+    const Vec3x<D> lit = (reflectivity * acc) * hit.sphereColor + LocalColor(d, f, hit, segmentRay.direction);
+    acc = Select(hit.hit, lit, background);
+  }
+  return acc;
+}
+
+// ---- Pixel and span level -----------------------------------------------
+
+// Primary rays of pixels x .. x+lanes-1 of the row at vertical coordinate v
+// (spec section 2, the scalar primaryRayDirection lane by lane).
+template <class D>
+HWY_INLINE RayX<D> PrimaryRays(D d, const FrameParams& f, int x, float v) {
+  const float w = static_cast<float>(f.extent.width);
+  const float h = static_cast<float>(f.extent.height);
+  const VecF<D> px = hn::Iota(d, static_cast<float>(x));
+  const VecF<D> u = ((hn::Set(d, 2.0f) * (px + hn::Set(d, 0.5f)) / hn::Set(d, w) - hn::Set(d, 1.0f)) *
+                     hn::Set(d, f.tanHalfFov)) *
+                    hn::Set(d, w / h);
+  const Vec3x<D> dir = (Broadcast(d, f.forward) + u * Broadcast(d, f.right)) + hn::Set(d, v) * Broadcast(d, f.up);
+  return {Broadcast(d, f.cameraPosition), Normalize(d, dir)};
+}
+
+// Spec section 7: clamp, round(255 c), opaque; only the first n lanes land.
+template <class D>
+HWY_INLINE void WritePixels(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
+  const hn::RebindToSigned<D> di;
+  constexpr std::size_t kMax = hn::MaxLanes(D());
+  HWY_ALIGN std::int32_t channel[3][kMax];
+  const auto quantize = [&](VecF<D> c) {
+    const VecF<D> clamped = hn::Min(hn::Max(c, hn::Zero(d)), hn::Set(d, 1.0f));
+    return hn::ConvertTo(di, clamped * hn::Set(d, 255.0f) + hn::Set(d, 0.5f));
+  };
+  hn::Store(quantize(color.x), di, channel[0]);
+  hn::Store(quantize(color.y), di, channel[1]);
+  hn::Store(quantize(color.z), di, channel[2]);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] = Rgba8{static_cast<std::uint8_t>(channel[0][i]), static_cast<std::uint8_t>(channel[1][i]),
+                   static_cast<std::uint8_t>(channel[2][i]), 255};
+  }
+}
+
+template <class D, unsigned kVariant>
+void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> scratch) {
+  constexpr bool kTwoPass = kVariant & 1u;
+  constexpr bool kBounce = kVariant & 2u;
+  constexpr bool kSphere = kVariant & 4u;
+  constexpr bool kDiscriminant = kVariant & 8u;
+  const D d;
+  const int lanes = static_cast<int>(hn::Lanes(d));
+  const float h = static_cast<float>(f.extent.height);
+  const float v = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / h) * f.tanHalfFov;
+  Rgba8* row = f.pixels + static_cast<std::size_t>(y) * static_cast<std::size_t>(f.extent.width);
+  for (int x = x0; x < x1; x += lanes) {
+    const auto n = static_cast<std::size_t>(std::min(lanes, x1 - x));
+    const MaskF<D> active = hn::FirstN(d, n);  // a partial packet at the row's end
+    const RayX<D> ray = PrimaryRays(d, f, x, v);
+    Vec3x<D> color;
+    if constexpr (kTwoPass) {
+      color = TraceTwoPass<kBounce, kSphere, kDiscriminant>(d, f, ray, active, scratch.data());
+    } else {
+      color = TraceSinglePass<kBounce, kSphere, kDiscriminant>(d, f, ray, active);
+    }
+    WritePixels(d, color, row + x, n);
+  }
+}
+
+template <class D, unsigned... kVariants>
+LaneKernels MakeLaneKernels(D d, std::integer_sequence<unsigned, kVariants...>) {
+  return LaneKernels{static_cast<int>(hn::Lanes(d)), {&RenderSpan<D, kVariants>...}};
+}
+
+// The kernels for packets of exactly kLanes floats, if this target has them.
+template <std::size_t kLanes>
+LaneKernels CappedKernels() {
+  const hn::CappedTag<float, kLanes> d;
+  if (hn::Lanes(d) != kLanes) return {};
+  return MakeLaneKernels(d, std::make_integer_sequence<unsigned, kVariantCount>());
+}
+
+}  // namespace rt::simd::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#endif  // per-target include guard
