@@ -38,6 +38,7 @@ class Instance {
   [[nodiscard]] bool validationEnabled() const { return validation_; }
   [[nodiscard]] ValidationCounts validationMessages() const { return counter_->counts(); }
   [[nodiscard]] const std::shared_ptr<ValidationCounter>& validationCounter() const { return counter_; }
+  [[nodiscard]] PFN_vkGetInstanceProcAddr getInstanceProcAddr() const { return loader_.getInstanceProcAddr(); }
 
  private:
   bool validation_;

@@ -154,6 +154,11 @@ CommandRunner::CommandRunner(const Device& device)
   commandBuffer_ = std::move(buffers.front());
 }
 
+const vk::raii::CommandBuffer& CommandRunner::idleCommandBuffer() {
+  commandBuffer_.reset();
+  return commandBuffer_;
+}
+
 void CommandRunner::begin() {
   commandBuffer_.reset();
   commandBuffer_.begin(vk::CommandBufferBeginInfo{.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});

@@ -94,6 +94,10 @@ class CommandRunner {
     submitAndWait(what);
   }
 
+  // The command buffer, reset and not recording, for a user that records
+  // and submits it by itself (Tracy's GPU context set-up).
+  [[nodiscard]] const vk::raii::CommandBuffer& idleCommandBuffer();
+
  private:
   void begin();
   void submitAndWait(std::string_view what);

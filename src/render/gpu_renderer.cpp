@@ -3,7 +3,9 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "core/profiler.h"
 #include "gpu/context.h"
+#include "gpu/gpu_profiler.h"
 #include "gpu/gpu_layout.h"
 #include "gpu/present_image.h"
 #include "gpu/raytrace_pipeline.h"
@@ -50,6 +52,7 @@ struct GPURenderer::DeviceObjects {
   const gpu::Device& device;
   gpu::CommandRunner runner{device};
   gpu::DispatchTimer timer{device};
+  gpu::GpuProfiler profiler{device, runner};
 };
 
 // What prepare() makes for one scene, size and variant. Declared in
@@ -125,16 +128,18 @@ void GPURenderer::render(const CameraFrame& camera) {
   SceneObjects& s = prepared();
   const gpu::FrameConstants constants = gpu::makeFrameConstants(s.scene, camera, s.extent);
   const gpu::DispatchTimer& timer = device_->timer;
+  [[maybe_unused]] const gpu::GpuProfiler& profiler = device_->profiler;
   gpu::translateVulkanErrors("render", [&] {
     device_->runner.run("render", [&](const vk::raii::CommandBuffer& cb) {
+      // Last frame's GPU zones have completed (its submit was waited for).
+      TracyVkCollect(profiler.context(), *cb);
       timer.recordReset(cb);
       // The last frame's copies out of the image finish before the shader
       // overwrites it; from UNDEFINED, since every pixel is written anew.
       gpu::imageBarrier(cb, s.output.handle(), {PipelineStage::eTransfer, {}, vk::ImageLayout::eUndefined},
                         kShaderWrite);
       s.pipeline.recordBind(cb, s.bindings.set(), constants);
-      // Tracy's GPU zone (TracyVkZone, issue 5) belongs around these three
-      // commands, with TracyVkCollect in this same command buffer.
+      TracyVkZone(profiler.context(), *cb, "raytrace dispatch");
       timer.recordStart(cb);
       cb.dispatch(gpu::workgroupCount(s.extent.width, RT_WORKGROUP_SIZE_X),
                   gpu::workgroupCount(s.extent.height, RT_WORKGROUP_SIZE_Y), 1);
@@ -150,6 +155,7 @@ void GPURenderer::present() {
   if (!s.presentImage) return;  // mode none: the frame stays in the storage image
   gpu::translateVulkanErrors("present", [&] {
     device_->runner.run("present", [&](const vk::raii::CommandBuffer& cb) {
+      TracyVkZone(device_->profiler.context(), *cb, "present copy");
       s.recordOutputReadable(cb);
       s.presentImage->recordCopyFrom(cb, s.output.handle());
     });
