@@ -1,4 +1,5 @@
 #include "app/cli.h"
+#include "app/cli_test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -8,20 +9,8 @@
 namespace rt {
 namespace {
 
-std::variant<RunConfig, CliExit> parse(std::initializer_list<const char*> args) {
-  std::vector<const char*> argv{"raytracer"};
-  argv.insert(argv.end(), args);
-  return parseCommandLine(static_cast<int>(argv.size()), argv.data());
-}
-
-RunConfig parseOk(std::initializer_list<const char*> args) {
-  auto result = parse(args);
-  if (auto* exit = std::get_if<CliExit>(&result)) {
-    ADD_FAILURE() << "exit " << exit->code << ": " << exit->error;
-    return {};
-  }
-  return std::get<RunConfig>(result);
-}
+using test::parse;
+using test::parseOk;
 
 int exitCode(std::initializer_list<const char*> args) {
   auto result = parse(args);

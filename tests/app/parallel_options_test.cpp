@@ -7,32 +7,15 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/cli_test_support.h"
 #include "app/frame_recorder.h"
 
 namespace rt {
 namespace {
 
-std::variant<RunConfig, CliExit> parse(std::initializer_list<const char*> args) {
-  std::vector<const char*> argv{"raytracer"};
-  argv.insert(argv.end(), args);
-  return parseCommandLine(static_cast<int>(argv.size()), argv.data());
-}
-
-RunConfig parseOk(std::initializer_list<const char*> args) {
-  auto result = parse(args);
-  if (auto* exit = std::get_if<CliExit>(&result)) {
-    ADD_FAILURE() << "exit " << exit->code << ": " << exit->error;
-    return {};
-  }
-  return std::get<RunConfig>(result);
-}
-
-CliExit parseFails(std::initializer_list<const char*> args) {
-  auto result = parse(args);
-  if (auto* exit = std::get_if<CliExit>(&result)) return *exit;
-  ADD_FAILURE() << "parsed, expected a failure";
-  return {};
-}
+using test::parse;
+using test::parseFails;
+using test::parseOk;
 
 TEST(ParallelOptions, DefaultsAreAllCoresNativeLanesRows) {
   const RunConfig c = parseOk({"--simd"});
