@@ -1,7 +1,5 @@
 #include "render/tbb_renderer.h"
 
-#include "render/scalar_rows.h"
-
 namespace rt {
 
 TBBRenderer::TBBRenderer(const ParallelSettings& settings)
@@ -16,18 +14,10 @@ RendererInfo TBBRenderer::info() const {
           .partition = scheduler_.partition()};
 }
 
-void TBBRenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
-  CPURenderer::prepare(scene, extent, options);
-  inputs_ = kernel::ShadingInputs<float>::from(scene);
-}
-
 void TBBRenderer::render(const CameraFrame& camera) {
   const Extent e = extent();
-  Image& frame = workingBuffer();
-  visitScalarVariant(options(), [&]<Algorithm kAlgorithm, bool kBounce>() {
-    scheduler_.forEachSpan(e, 1, [&](int /*slot*/, int y, int x0, int x1) {
-      renderScalarSpan<float, kAlgorithm, kBounce>(inputs_, camera, e, y, x0, x1, frame.row(y));
-    });
+  renderSpans(camera, [&](const auto& span) {
+    scheduler_.forEachSpan(e, 1, [&](int /*slot*/, int y, int x0, int x1) { span(y, x0, x1); });
   });
 }
 
