@@ -16,7 +16,6 @@ class CPURenderer : public Renderer {
  public:
   CPURenderer();
   ~CPURenderer() override;
-  using Renderer::present;
 
   // Before prepare(): where Present puts the frames (default: nowhere, `none`).
   void setPresentSetup(PresentSetup setup);

@@ -18,7 +18,6 @@ class GPURenderer final : public Renderer {
   // `setup.device` is required; setup.mode picks the Present path.
   explicit GPURenderer(PresentSetup setup);
   ~GPURenderer() override;
-  using Renderer::present;
 
   [[nodiscard]] RendererInfo info() const override;
   // Builds the pipeline variant (algorithm and bounce exit are

@@ -46,12 +46,6 @@ class Renderer {
   // Device time of the last render() in milliseconds (GPU timestamps);
   // nullopt where the renderer does not measure one.
   [[nodiscard]] virtual std::optional<double> lastGpuMs() const { return std::nullopt; }
-
-  // present() then readPresented(): one frame as the host sees it.
-  void present(Image& target) {
-    present();
-    readPresented(target);
-  }
 };
 
 }  // namespace rt

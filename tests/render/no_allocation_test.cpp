@@ -35,13 +35,12 @@ TEST(NoAllocation, FramePhasesOfTheSequentialRenderer) {
       SequentialRenderer renderer;
       const Extent extent{64, 48};
       renderer.prepare(scene, extent, optionsForStage(stage));
-      Image presented(extent);
       FrameRecorder recorder(4);
       const long before = gAllocations.load();
       for (long long k = 0; k < 4; ++k) {
         const CameraFrame camera = cameraAtFrame(scene.camera, k);
         renderer.render(camera);
-        renderer.present(presented);
+        renderer.present();
         FrameRecord record;
         record.frame = k;
         recorder.record(record);
@@ -60,11 +59,10 @@ TEST(NoAllocation, FramePhasesOfTheParallelRenderers) {
       const auto renderer = makeRenderer(kind);
       const Extent extent{67, 29};
       renderer->prepare(scene, extent, optionsForStage(stage));
-      Image presented(extent);
       const long before = gAllocations.load();
       for (long long k = 0; k < 4; ++k) {
         renderer->render(cameraAtFrame(scene.camera, k));
-        renderer->present(presented);
+        renderer->present();
       }
       EXPECT_EQ(gAllocations.load() - before, 0) << nameOf(kind) << " stage " << nameOf(stage);
     }

@@ -10,8 +10,9 @@ inline Image renderFrame(Renderer& renderer, const Scene& scene, Extent extent, 
                          long long frame) {
   renderer.prepare(scene, extent, options);
   renderer.render(cameraAtFrame(scene.camera, frame));
+  renderer.present();
   Image out(extent);
-  renderer.present(out);
+  renderer.readPresented(out);
   return out;
 }
 
