@@ -233,20 +233,28 @@ def _ratio(before: float, after: float) -> float:
     return before / after if before > 0 and after > 0 else math.nan
 
 
+# The columns that name a configuration, first in the per-configuration tables.
+CONFIG_HEADERS = ["stage", "scene", "renderer", "size", "threads", "lanes", "target / device"]
+
+
+def _config_cells(d: dict) -> list[str]:
+    """A configuration row's CONFIG_HEADERS cells."""
+    return [d[names.STAGE], d[names.SCENE], d[names.RENDERER], f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
+            fmt_int(d[names.THREADS]), fmt_int(d[names.LANES]), d[names.SIMD_TARGET] or d[names.DEVICE] or ""]
+
+
 def metrics_our(metrics: pd.DataFrame) -> Table:
     """Speedup and Karp-Flatt of every configuration of our run."""
     rows = []
     for r in metrics.itertuples(index=False):
         d = r._asdict()
-        rows.append([d[names.STAGE], d[names.SCENE], d[names.RENDERER], f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
-                     fmt_int(d[names.THREADS]), fmt_int(d[names.LANES]), d[names.SIMD_TARGET] or d[names.DEVICE] or "",
-                     fmt_ms(d["ref_median"]), fmt_ms(d["median"]),
+        rows.append([*_config_cells(d), fmt_ms(d["ref_median"]), fmt_ms(d["median"]),
                      f"{fmt_fixed(d['speedup'])} [{fmt_fixed(d['speedup_low'], 2)}, {fmt_fixed(d['speedup_high'], 2)}]",
                      fmt_int(d["p"]) if math.isfinite(d["p"]) else MISSING, fmt_sig(d["karp_flatt"])])
     reference = names.reference_renderer()
     return Table(
         "metrics", f"Speedup over {reference} and Karp-Flatt metric (our run)",
-        ["stage", "scene", "renderer", "size", "threads", "lanes", "target / device", f"{reference} ms", "ms",
+        [*CONFIG_HEADERS, f"{reference} ms", "ms",
          "S [range]", "p", "e"],
         rows, "llllrrlrrrrr",
         ["S = T_ref / T (medians); range from the bootstrap CIs; e = (1/S - 1/p)/(1 - 1/p). "
@@ -280,14 +288,12 @@ def summary_table(summary: pd.DataFrame) -> Table:
     rows = []
     for r in summary.itertuples(index=False):
         d = r._asdict()
-        rows.append([d[names.STAGE], d[names.SCENE], d[names.RENDERER], f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
-                     fmt_int(d[names.THREADS]), fmt_int(d[names.LANES]), d[names.SIMD_TARGET] or d[names.DEVICE] or "",
-                     fmt_int(d["n"]), fmt_ms(d["median"]), f"[{fmt_ms(d['ci_low'])}, {fmt_ms(d['ci_high'])}]",
+        rows.append([*_config_cells(d), fmt_int(d["n"]), fmt_ms(d["median"]), f"[{fmt_ms(d['ci_low'])}, {fmt_ms(d['ci_high'])}]",
                      fmt_ms(d["mean"]), fmt_ms(d["std"]), fmt_ms(d["mad"]), fmt_ms(d["p95"]), fmt_ms(d["p99"]),
                      fmt_int(d["outliers"]), fmt_int(d["repetitions"]), fmt_percent(d["rep_spread"])])
     return Table(
         "summary", "Every configuration: render time per frame [ms]",
-        ["stage", "scene", "renderer", "size", "threads", "lanes", "target / device", "n", "median", "95% CI",
+        [*CONFIG_HEADERS, "n", "median", "95% CI",
          "mean", "std", "MAD", "p95", "p99", "outliers", "reps", "rep spread"],
         rows, "llllrrlrrrrrrrrrrr",
         ["n = measured frames over all repetitions; CI = bootstrap 95% CI of the median (2000 resamples, seeded); "
