@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Deterministic, seeded generator of the sphere scenes (render-model.md section 1).
+"""Deterministic, seeded generator of the sphere scenes (docs/render-model.md section 1).
 
 The committed scenes come from it and a test regenerates them byte for byte:
 

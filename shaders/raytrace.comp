@@ -1,9 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The render model of render-model.md (sections 2-5 and 7) as a compute
+// The render model of docs/render-model.md (sections 2-5 and 7) as a compute
 // shader, one invocation per pixel. It mirrors src/render/scalar_kernel.h
 // function by function, in the same operation order, so that the GPU image
-// agrees with the sequential renderer (spec section 8). Change both together.
+// agrees with the sequential renderer (docs/render-model.md section 8). Change both together.
 
 #include "gpu_interface.h"
 #include "model_constants.h"
@@ -58,7 +58,7 @@ layout(push_constant, std430) uniform FrameConstants {
   layout(offset = 124) float unused;
 } pc;
 
-// Intersection (spec section 3) ==============================================
+// Intersection (docs/render-model.md section 3) ==============================================
 struct Hit {
   vec3 position;
   vec3 normal;
@@ -103,7 +103,7 @@ Hit nearestHit(vec3 origin, vec3 direction) {
   return hit;
 }
 
-// Shading (spec section 4) ===================================================
+// Shading (docs/render-model.md section 4) ===================================================
 vec3 localColor(Hit hit, vec3 direction, vec3 sphereColor) {
   vec3 n = hit.normal;
   vec3 l = pc.toLight;
@@ -115,7 +115,7 @@ vec3 localColor(Hit hit, vec3 direction, vec3 sphereColor) {
   return ambient + diffuse + pc.specularStrength * highlight * pc.lightColor;
 }
 
-// The bounce of spec section 5: offset origin, renormalised mirror direction.
+// The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
 void reflectRay(inout vec3 origin, inout vec3 direction, Hit hit) {
   vec3 d = direction;
   vec3 n = hit.normal;
@@ -123,7 +123,7 @@ void reflectRay(inout vec3 origin, inout vec3 direction, Hit hit) {
   direction = normalize(d - 2.0 * dot(d, n) * n);
 }
 
-// The two algorithms (spec section 5) ========================================
+// The two algorithms (docs/render-model.md section 5) ========================================
 vec3 traceSinglePass(vec3 origin, vec3 direction) {
   vec3 color = vec3(0.0);
   vec3 throughput = vec3(1.0);
@@ -180,7 +180,7 @@ vec3 traceTwoPass(vec3 origin, vec3 direction) {
   return acc;
 }
 
-// Camera and output (spec sections 2 and 7) ==================================
+// Camera and output (docs/render-model.md sections 2 and 7) ==================================
 vec3 primaryRayDirection(ivec2 pixel) {
   float w = float(pc.width);
   float h = float(pc.height);

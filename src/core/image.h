@@ -47,7 +47,7 @@ void writePng(const Image& image, const std::filesystem::path& path);
 // Reads an 8-bit PNG (any channel count is expanded to RGBA); throws on failure.
 Image readPng(const std::filesystem::path& path);
 
-// How closely two images agree (render-model.md section 8).
+// How closely two images agree (docs/render-model.md section 8).
 struct ImageAgreement {
   double fractionWithinTolerance = 0.0;  // pixels whose every channel differs by <= 2/255
   double psnrDb = 0.0;                   // infinity for identical images

@@ -13,7 +13,7 @@ using schema::PresentMode;
 using schema::RendererKind;
 using schema::Stage;
 
-// A set of early exits (spec section 6) as a bit mask over EarlyExit.
+// A set of early exits (docs/render-model.md section 6) as a bit mask over EarlyExit.
 class EarlyExitSet {
  public:
   constexpr EarlyExitSet() = default;

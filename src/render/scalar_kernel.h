@@ -1,5 +1,5 @@
 #pragma once
-// The scalar ray-tracing kernel of render-model.md sections 3-5, shared by
+// The scalar ray-tracing kernel of docs/render-model.md sections 3-5, shared by
 // the sequential renderer (float), the threads-only renderer and the
 // double-precision reference used by the tests. Everything here is inline
 // and allocation-free: it runs per ray.
@@ -65,7 +65,7 @@ template <typename Real>
 constexpr Real kEpsilon = static_cast<Real>(RT_HIT_EPSILON);
 
 // Distance along the ray to one sphere, or a value <= EPS for no hit.
-// Uses the cancellation-free discriminant of spec section 3.
+// Uses the cancellation-free discriminant of docs/render-model.md section 3.
 template <typename Real>
 inline Real intersectSphere(const Ray<Real>& ray, const Sphere& sphere) {
   const Vec3<Real> oc = ray.origin - Vec3<Real>(sphere.position);
@@ -103,7 +103,7 @@ inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere>
   return hit;
 }
 
-// Phong: ambient + diffuse + specular from one directional light (spec section 4).
+// Phong: ambient + diffuse + specular from one directional light (docs/render-model.md section 4).
 template <typename Real>
 inline Vec3<Real> localColor(const ShadingInputs<Real>& in, const RaycastHit<Real>& hit,
                              const Vec3<Real>& direction, const Vec3<Real>& sphereColor) {
@@ -116,7 +116,7 @@ inline Vec3<Real> localColor(const ShadingInputs<Real>& in, const RaycastHit<Rea
   return ambient + diffuse + in.specularStrength * highlight * in.lightColor;
 }
 
-// The bounce of spec section 5: offset origin, renormalised mirror direction.
+// The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
 template <typename Real>
 inline Ray<Real> reflectedRay(const Ray<Real>& ray, const RaycastHit<Real>& hit) {
   const Vec3<Real>& d = ray.direction;

@@ -7,7 +7,7 @@
 namespace rt {
 namespace {
 
-// Right-handed rotation about +Y by `angle` radians (spec section 2).
+// Right-handed rotation about +Y by `angle` radians (docs/render-model.md section 2).
 glm::dvec3 rotateAboutY(glm::dvec3 v, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
   return {c * v.x + s * v.z, v.y, -s * v.x + c * v.z};

@@ -6,7 +6,7 @@
 
 namespace rt {
 
-// The animation's fixed time step (spec section 2, chosen): frame k shows
+// The animation's fixed time step (docs/render-model.md section 2, chosen): frame k shows
 // the same picture whatever the frame took.
 inline constexpr double kSecondsPerFrame = 1.0 / 60.0;
 
@@ -23,7 +23,7 @@ struct CameraFrame {
 // accumulated), so it does not depend on timing or on earlier frames.
 CameraFrame cameraAtFrame(const CameraSpec& spec, long long frame);
 
-// Direction (not normalised) through pixel (x, y)'s centre; spec section 2.
+// Direction (not normalised) through pixel (x, y)'s centre; docs/render-model.md section 2.
 // Templated on the precision so the double-precision reference shares it.
 template <typename Real>
 glm::vec<3, Real> primaryRayDirection(const CameraFrame& cam, Extent extent, int x, int y) {

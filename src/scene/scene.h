@@ -8,7 +8,7 @@
 
 namespace rt {
 
-// Scene model of render-model.md section 1; field names follow the thesis.
+// Scene model of docs/render-model.md section 1; field names follow the thesis.
 // Camera set-up runs in double; per-pixel work is float.
 struct CameraSpec {
   glm::dvec3 position{0.0};

@@ -13,7 +13,7 @@ namespace {
 using Json = nlohmann::json;
 
 // |dot(direction, +Y)| above this means the camera looks straight up or down
-// and its right vector would be undefined (spec section 1).
+// and its right vector would be undefined (docs/render-model.md section 1).
 constexpr double kMaxVerticalAlignment = 0.9999;
 
 std::string describeType(const Json& value) { return value.type_name(); }

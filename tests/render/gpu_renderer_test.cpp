@@ -1,4 +1,4 @@
-// The GPU renderer agrees with the sequential reference (render-model.md
+// The GPU renderer agrees with the sequential reference (docs/render-model.md
 // section 8) on every scene, algorithm and bounce setting, at small sizes
 // and at an odd one that leaves partial workgroups; all under validation.
 #include <gtest/gtest.h>

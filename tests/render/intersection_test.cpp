@@ -69,7 +69,7 @@ TEST(Intersection, ExactTieGoesToTheLowerIndex) {
 }
 
 TEST(Intersection, SmallFarSphereDoesNotCancel) {
-  // The textbook discriminant loses this sphere in float; spec section 3's form keeps it.
+  // The textbook discriminant loses this sphere in float; docs/render-model.md section 3's form keeps it.
   const std::vector<Sphere> s{sphereAt({0.0f, 0.0009f, 3000.0f}, 0.001f)};
   const RaycastHit<float> hit = nearestHit(rayAlongZ(0), std::span<const Sphere>(s));
   ASSERT_TRUE(hit.hit());

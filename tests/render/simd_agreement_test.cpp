@@ -1,4 +1,4 @@
-// The SIMD and threaded renderers against the sequential reference (spec
+// The SIMD and threaded renderers against the sequential reference (docs/render-model.md
 // section 8): every mode x algorithm x early-exit set x lanes, on every
 // scene at an even and an odd size, on every Highway target this CPU runs.
 #include <gtest/gtest.h>

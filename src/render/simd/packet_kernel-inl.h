@@ -1,4 +1,4 @@
-// The SIMD ray-tracing kernel: render-model.md sections 3-7 on packets of
+// The SIMD ray-tracing kernel: docs/render-model.md sections 3-7 on packets of
 // horizontally adjacent pixels, one Highway lane per pixel. Compiled once
 // per target (simd_kernel.cc includes it through foreach_target.h), hence
 // the toggling include guard instead of #pragma once.
@@ -99,7 +99,7 @@ HWY_INLINE Vec3x<D> Select(MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) 
   return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z)};
 }
 
-// ---- Intersection (spec section 3) --------------------------------------
+// ---- Intersection (docs/render-model.md section 3) --------------------------------------
 
 // Nearest sphere per lane over all spheres, lower index on a tie. Lanes
 // outside `active` (past the row's end, or already missed) report no hit.
@@ -165,7 +165,7 @@ HWY_NOINLINE HitX<D> Raycast(D d, const SphereArrays& s, const RayX<D>& ray, Mas
   return h;
 }
 
-// ---- Shading (spec section 4) -------------------------------------------
+// ---- Shading (docs/render-model.md section 4) -------------------------------------------
 
 // x^e for x >= 0. Whole exponents (the scenes' 32) by repeated squaring,
 // which stays within a few ulp of std::pow; others through exp(e log x).
@@ -200,7 +200,7 @@ HWY_NOINLINE Vec3x<D> LocalColor(D d, const FrameParams& f, const HitX<D>& hit, 
   return ambient + diffuse + (hn::Set(d, f.specularStrength) * highlight) * lightColor;
 }
 
-// The bounce of spec section 5: offset origin, renormalised mirror direction.
+// The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
 template <class D>
 HWY_INLINE RayX<D> Reflected(D d, const RayX<D>& ray, const HitX<D>& hit) {
   const Vec3x<D>& dir = ray.direction;
@@ -209,7 +209,7 @@ HWY_INLINE RayX<D> Reflected(D d, const RayX<D>& ray, const HitX<D>& hit) {
   return {origin, Normalize(d, dir - (hn::Set(d, 2.0f) * Dot(dir, n)) * n)};
 }
 
-// ---- The two algorithms (spec section 5) --------------------------------
+// ---- The two algorithms (docs/render-model.md section 5) --------------------------------
 
 // Single-pass: colour and throughput accumulate on the way down. A lane
 // that missed leaves `active`; since its ray would miss again, dropping it
@@ -319,7 +319,7 @@ HWY_INLINE Vec3x<D> TraceTwoPass(D d, const FrameParams& f, RayX<D> ray, MaskF<D
 // ---- Pixel and span level -----------------------------------------------
 
 // Primary rays of pixels x .. x+lanes-1 of the row at vertical coordinate v
-// (spec section 2, the scalar primaryRayDirection lane by lane).
+// (docs/render-model.md section 2, the scalar primaryRayDirection lane by lane).
 template <class D>
 HWY_INLINE RayX<D> PrimaryRays(D d, const FrameParams& f, int x, float v) {
   const float w = static_cast<float>(f.extent.width);
