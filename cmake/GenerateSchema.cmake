@@ -34,6 +34,34 @@ inline constexpr std::array<std::string_view, ${n}> k${enum_name}Names{\n${strin
     PARENT_SCOPE)
 endfunction()
 
+# One RendererDefinition initialiser for renderers[i].
+function(rt_renderer_definition out json i)
+  string(JSON flag GET "${json}" renderers ${i} flag)
+  set(pair "")
+  foreach(axis kernel scheduler)
+    string(JSON type TYPE "${json}" renderers ${i} ${axis})
+    if(type STREQUAL "NULL")
+      string(APPEND pair " std::nullopt,")
+    else()
+      string(JSON value GET "${json}" renderers ${i} ${axis})
+      string(SUBSTRING "${axis}" 0 1 first)
+      string(TOUPPER "${first}" first)
+      string(SUBSTRING "${axis}" 1 -1 rest)
+      string(APPEND pair " ${first}${rest}::${value},")
+    endif()
+  endforeach()
+  string(JSON nopts LENGTH "${json}" renderers ${i} options)
+  set(mask "0u")
+  if(nopts GREATER 0)
+    math(EXPR olast "${nopts} - 1")
+    foreach(j RANGE ${olast})
+      string(JSON o GET "${json}" renderers ${i} options ${j})
+      string(APPEND mask " | (1u << static_cast<int>(RendererOption::${o}))")
+    endforeach()
+  endif()
+  set(${out} "    RendererDefinition{\"${flag}\",${pair} ${mask}},\n" PARENT_SCOPE)
+endfunction()
+
 function(rt_generate_schema_header json_path header_path)
   file(READ "${json_path}" json)
   set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${json_path}")
@@ -48,6 +76,9 @@ function(rt_generate_schema_header json_path header_path)
   rt_json_names(present_modes "${json}" present_modes)
   rt_json_names(columns "${json}" frame_csv)
   rt_json_names(meta_keys "${json}" run_metadata)
+  rt_json_names(kernels "${json}" kernels)
+  rt_json_names(schedulers "${json}" schedulers)
+  rt_json_names(renderer_options "${json}" renderer_options)
 
   rt_enum_block(b_renderers RendererKind "${renderers}")
   rt_enum_block(b_phases Phase "${phases}")
@@ -58,15 +89,32 @@ function(rt_generate_schema_header json_path header_path)
   rt_enum_block(b_present PresentMode "${present_modes}")
   rt_enum_block(b_columns FrameCsvColumn "${columns}")
   rt_enum_block(b_meta RunMetadataKey "${meta_keys}")
+  rt_enum_block(b_kernels Kernel "${kernels}")
+  rt_enum_block(b_schedulers Scheduler "${schedulers}")
+  rt_enum_block(b_options RendererOption "${renderer_options}")
 
-  # Renderer command-line flags, in renderer order.
+  # Renderer rows: flag, backend, the CPU renderers' (kernel, scheduler)
+  # pair and the renderer options each accepts, in renderer order.
   string(JSON count LENGTH "${json}" renderers)
   math(EXPR last "${count} - 1")
-  set(flags "")
+  set(renderer_defs "")
   foreach(i RANGE ${last})
-    string(JSON flag GET "${json}" renderers ${i} flag)
-    string(APPEND flags "    \"${flag}\",\n")
+    rt_renderer_definition(def "${json}" ${i})
+    string(APPEND renderer_defs "${def}")
   endforeach()
+
+  set(option_flags "")
+  string(JSON count LENGTH "${json}" renderer_options)
+  math(EXPR last "${count} - 1")
+  foreach(i RANGE ${last})
+    string(JSON flag GET "${json}" renderer_options ${i} flag)
+    string(APPEND option_flags "    \"${flag}\",\n")
+  endforeach()
+  list(LENGTH renderer_options n_options)
+
+  string(JSON lane_widths GET "${json}" lane_widths)
+  string(JSON n_lane_widths LENGTH "${json}" lane_widths)
+  string(REGEX REPLACE "[][ ]" "" lane_widths "${lane_widths}")
 
   # Stage -> algorithm and early-exit set, in stage order.
   string(JSON count LENGTH "${json}" stages)
@@ -91,10 +139,20 @@ function(rt_generate_schema_header json_path header_path)
   list(LENGTH stages n_stages)
   set(content
 "// Generated from schema/rt_schema.json by cmake/GenerateSchema.cmake. Do not edit.\n\
-#pragma once\n#include <array>\n#include <string_view>\n\nnamespace rt::schema {\n\n\
+#pragma once\n#include <array>\n#include <optional>\n#include <string_view>\n\nnamespace rt::schema {\n\n\
 inline constexpr int kVersion = ${version};\n\n\
 ${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_stages}${b_partitions}${b_present}${b_columns}${b_meta}\
-inline constexpr std::array<std::string_view, ${n_renderers}> kRendererFlags{\n${flags}};\n\n\
+${b_kernels}${b_schedulers}${b_options}\
+inline constexpr std::array<std::string_view, ${n_options}> kRendererOptionFlags{\n${option_flags}};\n\n\
+// --lanes values besides 'native' (pixels per SIMD packet).\n\
+inline constexpr std::array<int, ${n_lane_widths}> kLaneWidths{${lane_widths}};\n\n\
+// A renderer row: its flag, whether it runs on the CPU as a (kernel,\n\
+// scheduler) pair (nullopt for the GPU renderer), and the renderer options\n\
+// it accepts as a bit mask over RendererOption.\n\
+struct RendererDefinition {\n  std::string_view flag;\n  std::optional<Kernel> kernel;\n\
+  std::optional<Scheduler> scheduler;\n  unsigned optionMask;\n\
+  [[nodiscard]] constexpr bool accepts(RendererOption o) const { return (optionMask >> static_cast<int>(o)) & 1u; }\n};\n\
+inline constexpr std::array<RendererDefinition, ${n_renderers}> kRendererDefinitions{{\n${renderer_defs}}};\n\n\
 struct StageDefinition {\n  Algorithm algorithm;\n  unsigned earlyExitMask;\n};\n\
 inline constexpr std::array<StageDefinition, ${n_stages}> kStageDefinitions{{\n${stage_defs}}};\n\n\
 }  // namespace rt::schema\n")

@@ -55,25 +55,55 @@ SaveFrameRequest parseSaveFrame(const std::string& text) {
   return request;
 }
 
-bool usesTbb(RendererKind kind) { return kind == RendererKind::simd_tbb || kind == RendererKind::tbb_only; }
-bool usesSimd(RendererKind kind) { return kind == RendererKind::simd_tbb || kind == RendererKind::simd_only; }
+// The CLI options of the renderer options, in schema order; null until added.
+using RendererOptionSlots = std::array<CLI::Option*, schema::kRendererOptionNames.size()>;
 
-// The parallel options only mean something to some renderers; a run that
-// records a setting its renderer ignored would mislabel its CSV rows.
-void checkParallelOptionsApply(RendererKind kind, const CLI::Option& threads, const CLI::Option& lanes,
-                               const CLI::Option& grain, const CLI::Option& partition, int threadCount) {
-  const std::string renderer(nameOf(kind));
-  if (threads && !usesTbb(kind) && threadCount != 1) {
-    throw CLI::ValidationError("--threads", "renderer " + renderer + " runs on one thread; --threads applies to --simd and --tbb-only");
+// What CLI11 parses into text first; converted and checked after parsing.
+struct RawOptions {
+  std::array<bool, schema::kRendererKindNames.size()> rendererFlags{};
+  std::string scene;
+  std::string algorithm, earlyExit, stage;
+  std::string lanes = "native";
+  std::string partition;
+  std::string csv, meta, present;
+  std::vector<std::string> saveFrames;
+  RendererOptionSlots rendererOptions{};
+  CLI::Option* csvOption = nullptr;
+  CLI::Option* metaOption = nullptr;
+  bool version = false;
+};
+
+template <std::size_t N>
+std::vector<std::string> namesOf(const std::array<std::string_view, N>& names) {
+  return {names.begin(), names.end()};
+}
+
+// Flags of the renderers whose schema row accepts `option` ("--simd and --tbb-only").
+std::string flagsAccepting(RendererOption option) {
+  std::vector<std::string> flags;
+  for (const auto& d : schema::kRendererDefinitions) {
+    if (d.accepts(option)) flags.emplace_back(d.flag);
   }
-  if (lanes && !usesSimd(kind)) {
-    throw CLI::ValidationError("--lanes", "renderer " + renderer + " has no SIMD packets; --lanes applies to --simd and --simd-only");
+  std::string text;
+  for (std::size_t i = 0; i < flags.size(); ++i) {
+    text += (i == 0 ? "" : i + 1 == flags.size() ? " and " : ", ") + flags[i];
   }
-  for (const CLI::Option* option : {&grain, &partition}) {
-    if (*option && !usesTbb(kind)) {
-      throw CLI::ValidationError(option->get_name(), "renderer " + renderer + " does not use oneTBB; " +
-                                                         option->get_name() + " applies to --simd and --tbb-only");
-    }
+  return text;
+}
+
+// The renderer options only mean something to the renderers whose schema
+// row lists them; a run that recorded a setting its renderer ignored would
+// mislabel its CSV rows. `--threads 1` is what a one-thread renderer does
+// anyway, so it passes.
+void checkRendererOptionsApply(RendererKind kind, const RendererOptionSlots& given, int threadCount) {
+  const auto& definition = definitionOf(kind);
+  for (std::size_t i = 0; i < given.size(); ++i) {
+    const auto option = static_cast<RendererOption>(i);
+    if (!*given[i] || definition.accepts(option)) continue;
+    if (option == RendererOption::threads && threadCount == 1) continue;
+    const std::string flag(schema::kRendererOptionFlags[i]);
+    throw CLI::ValidationError(flag, "renderer " + std::string(nameOf(kind)) + " does not take " + flag + "; " +
+                                         flag + " applies to " + flagsAccepting(option));
   }
 }
 
@@ -95,109 +125,149 @@ std::string versionText() {
   return out.str();
 }
 
-std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* argv) {
-  RunConfig config;
-  config.commandLine.assign(argv, argv + argc);
+namespace {
 
-  CLI::App app("Ray tracer of sphere scenes with interchangeable renderers; times every frame.", "raytracer");
-  app.option_defaults()->always_capture_default();
-
-  std::array<bool, schema::kRendererKindNames.size()> rendererFlags{};
-  for (std::size_t i = 0; i < rendererFlags.size(); ++i) {
-    app.add_flag(std::string(schema::kRendererFlags[i]), rendererFlags[i],
+void addRendererChoice(CLI::App& app, RawOptions& raw) {
+  for (std::size_t i = 0; i < raw.rendererFlags.size(); ++i) {
+    app.add_flag(std::string(schema::kRendererDefinitions[i].flag), raw.rendererFlags[i],
                  "renderer " + std::string(schema::kRendererKindNames[i]));
   }
-  std::string scene = config.scenePath.string();
-  app.add_option("scene", scene, "scene file (JSON)")->capture_default_str();
+  app.add_option("scene", raw.scene, "scene file (JSON)")->capture_default_str();
+}
+
+void addFrameOptions(CLI::App& app, RunConfig& config) {
   app.add_option("--width", config.extent.width, "image width in pixels")->check(CLI::Range(1, 16384));
   app.add_option("--height", config.extent.height, "image height in pixels")->check(CLI::Range(1, 16384));
   app.add_option("--frames", config.measuredFrames, "measured frames")->check(CLI::Range(1, 1000000));
   app.add_option("--warmup", config.warmupFrames, "warm-up frames before the measured ones")
       ->check(CLI::Range(0, 1000000));
-  std::string algorithm, earlyExit, stage;
-  auto* algorithmOpt = app.add_option("--algorithm", algorithm, "single-pass|two-pass")
-                           ->check(CLI::IsMember(std::vector<std::string>(schema::kAlgorithmNames.begin(),
-                                                                          schema::kAlgorithmNames.end())));
-  auto* exitOpt = app.add_option("--early-exit", earlyExit,
-                                 "none|all|comma list of " + joinNames(schema::kEarlyExitNames, ","));
-  auto* stageOpt = app.add_option("--stage", stage, "the thesis' stages: original|single-pass|optimized (default)")
-                       ->check(CLI::IsMember(std::vector<std::string>(schema::kStageNames.begin(),
-                                                                      schema::kStageNames.end())));
-  stageOpt->excludes(algorithmOpt)->excludes(exitOpt);
-  auto* threadsOpt = app.add_option("--threads", config.parallel.threads, "oneTBB threads")
-                         ->check(CLI::Range(1, 4096))
-                         ->default_str("all cores");
-  std::string lanes = "native";
-  auto* lanesOpt = app.add_option("--lanes", lanes, "pixels per SIMD packet: native (widest vector)|4|8|16")
-                       ->check(CLI::IsMember({"native", "4", "8", "16"}));
-  auto* grainOpt = app.add_option("--grain", config.parallel.grain, "oneTBB grain size in rows")
-                       ->check(CLI::Range(1, 16384));
-  std::string partition(nameOf(config.parallel.partition));
-  auto* partitionOpt = app.add_option("--partition", partition, "oneTBB work split: rows|tiles (rows x 64 px)")
-                           ->check(CLI::IsMember(std::vector<std::string>(schema::kPartitionNames.begin(),
-                                                                          schema::kPartitionNames.end())));
-  std::string csv, meta;
-  auto* csvOpt = app.add_option("--csv", csv, "write one row per frame to this CSV file");
-  auto* metaOpt = app.add_option("--meta", meta, "write the run's metadata here (default: CSV path .meta.json)");
-  std::vector<std::string> saveFrames;
-  app.add_option("--save-frame", saveFrames, "K:FILE.png: save animation frame K (0 = first warm-up frame)");
-  std::string present;
-  app.add_option("--present", present,
+}
+
+void addModelOptions(CLI::App& app, RawOptions& raw) {
+  auto* algorithm = app.add_option("--algorithm", raw.algorithm, "single-pass|two-pass")
+                        ->check(CLI::IsMember(namesOf(schema::kAlgorithmNames)));
+  auto* exits = app.add_option("--early-exit", raw.earlyExit,
+                               "none|all|comma list of " + joinNames(schema::kEarlyExitNames, ","));
+  app.add_option("--stage", raw.stage, "the thesis' stages: original|single-pass|optimized (default)")
+      ->check(CLI::IsMember(namesOf(schema::kStageNames)))
+      ->excludes(algorithm)
+      ->excludes(exits);
+}
+
+void addRendererOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
+  const auto flag = [](RendererOption o) { return std::string(schema::kRendererOptionFlags[static_cast<int>(o)]); };
+  const auto slot = [&](RendererOption o) -> CLI::Option*& { return raw.rendererOptions[static_cast<int>(o)]; };
+  std::vector<std::string> lanes{"native"};
+  for (int width : schema::kLaneWidths) lanes.push_back(std::to_string(width));
+  slot(RendererOption::threads) = app.add_option(flag(RendererOption::threads), config.parallel.threads, "oneTBB threads")
+                                      ->check(CLI::Range(1, 4096))
+                                      ->default_str("all cores");
+  std::string lanesHelp = "pixels per SIMD packet: native (the widest vector)";
+  for (std::size_t i = 1; i < lanes.size(); ++i) lanesHelp += "|" + lanes[i];
+  slot(RendererOption::lanes) =
+      app.add_option(flag(RendererOption::lanes), raw.lanes, lanesHelp)->check(CLI::IsMember(lanes));
+  slot(RendererOption::grain) = app.add_option(flag(RendererOption::grain), config.parallel.grain, "oneTBB grain size in rows")
+                                    ->check(CLI::Range(1, 16384));
+  raw.partition = nameOf(config.parallel.partition);
+  slot(RendererOption::partition) = app.add_option(flag(RendererOption::partition), raw.partition,
+                                                   "oneTBB work split: rows|tiles (rows x 64 px)")
+                                        ->check(CLI::IsMember(namesOf(schema::kPartitionNames)));
+}
+
+void addOutputOptions(CLI::App& app, RawOptions& raw) {
+  raw.csvOption = app.add_option("--csv", raw.csv, "write one row per frame to this CSV file");
+  raw.metaOption = app.add_option("--meta", raw.meta, "write the run's metadata here (default: CSV path .meta.json)");
+  app.add_option("--save-frame", raw.saveFrames, "K:FILE.png: save animation frame K (0 = first warm-up frame)");
+}
+
+void addDeviceOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
+  app.add_option("--present", raw.present,
                  "none|upload: where Present puts each frame (default: upload into the Vulkan device's present "
                  "image when a device opens, else none)")
-      ->check(CLI::IsMember(std::vector<std::string>(schema::kPresentModeNames.begin(), schema::kPresentModeNames.end())));
+      ->check(CLI::IsMember(namesOf(schema::kPresentModeNames)));
   app.add_option("--device", config.device,
                  "Vulkan device: INDEX or NAME-SUBSTRING (default: first discrete GPU, else integrated, else CPU)");
   app.add_flag("--list-devices", config.listDevices, "list the Vulkan devices and exit");
   app.add_flag("--vk-validation", config.vkValidation,
                "enable VK_LAYER_KHRONOS_validation; any warning or error fails the run (exit 1)");
+}
+
+void addRunOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
   app.add_flag("--quiet,-q", config.quiet, "print nothing but errors");
   app.add_flag("--tracy-wait", config.tracyWait,
                "wait for a Tracy viewer (127.0.0.1, port TRACY_PORT or 8086) before the first frame");
-  bool version = false;
-  app.add_flag("--version", version, "print the version and exit");
+  app.add_flag("--version", raw.version, "print the version and exit");
+}
+
+void applyRendererChoice(const RawOptions& raw, RunConfig& config) {
+  const auto chosen = std::ranges::count(raw.rendererFlags, true);
+  if (chosen > 1) throw CLI::ValidationError("renderer", "choose one of the renderer flags");
+  if (chosen == 1) {
+    config.renderer = static_cast<RendererKind>(std::ranges::find(raw.rendererFlags, true) - raw.rendererFlags.begin());
+  }
+  config.scenePath = raw.scene;
+  checkRendererOptionsApply(config.renderer, raw.rendererOptions, config.parallel.threads);
+  config.parallel.lanes = raw.lanes == "native" ? ParallelSettings::kNativeLanes : std::stoi(raw.lanes);
+  config.parallel.partition = *enumByName<Partition>(schema::kPartitionNames, raw.partition);
+#ifndef TRACY_ENABLE
+  if (config.tracyWait) {
+    throw CLI::ValidationError("--tracy-wait", "this build has no Tracy client (use the 'profile' preset)");
+  }
+#endif
+}
+
+void applyModelOptions(const RawOptions& raw, RunConfig& config) {
+  config.options = optionsForStage(Stage::optimized);
+  if (!raw.stage.empty()) config.options = optionsForStage(*enumByName<Stage>(schema::kStageNames, raw.stage));
+  if (!raw.algorithm.empty()) config.options.algorithm = *enumByName<Algorithm>(schema::kAlgorithmNames, raw.algorithm);
+  if (!raw.earlyExit.empty()) config.options.earlyExits = parseEarlyExits(raw.earlyExit);
+  if (!raw.present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, raw.present);
+}
+
+void applyOutputs(const RawOptions& raw, RunConfig& config) {
+  if (*raw.csvOption) {
+    config.csvPath = raw.csv;
+    requireExistingDirectory(raw.csv, "--csv");
+  }
+  if (*raw.metaOption) {
+    config.metaPath = raw.meta;
+    requireExistingDirectory(raw.meta, "--meta");
+  }
+  for (const auto& text : raw.saveFrames) {
+    SaveFrameRequest request = parseSaveFrame(text);
+    if (request.frame >= config.totalFrames()) {
+      throw CLI::ValidationError("--save-frame", "frame " + std::to_string(request.frame) + " is past the last frame (" +
+                                                     std::to_string(config.totalFrames() - 1) + ")");
+    }
+    requireExistingDirectory(request.file, "--save-frame");
+    config.saveFrames.push_back(std::move(request));
+  }
+}
+
+}  // namespace
+
+std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* argv) {
+  RunConfig config;
+  config.commandLine.assign(argv, argv + argc);
+  RawOptions raw;
+  raw.scene = config.scenePath.string();
+
+  CLI::App app("Ray tracer of sphere scenes with interchangeable renderers; times every frame.", "raytracer");
+  app.option_defaults()->always_capture_default();
+  addRendererChoice(app, raw);
+  addFrameOptions(app, config);
+  addModelOptions(app, raw);
+  addRendererOptions(app, raw, config);
+  addOutputOptions(app, raw);
+  addDeviceOptions(app, raw, config);
+  addRunOptions(app, raw, config);
 
   try {
     app.parse(argc, argv);
-    if (version) return CliExit{0, versionText(), ""};
-
-    const auto chosen = std::ranges::count(rendererFlags, true);
-    if (chosen > 1) throw CLI::ValidationError("renderer", "choose one of the renderer flags");
-    if (chosen == 1) config.renderer = static_cast<RendererKind>(std::ranges::find(rendererFlags, true) - rendererFlags.begin());
-    config.scenePath = scene;
-    checkParallelOptionsApply(config.renderer, *threadsOpt, *lanesOpt, *grainOpt, *partitionOpt, config.parallel.threads);
-    config.parallel.lanes = lanes == "native" ? ParallelSettings::kNativeLanes : std::stoi(lanes);
-    config.parallel.partition = *enumByName<Partition>(schema::kPartitionNames, partition);
-#ifndef TRACY_ENABLE
-    if (config.tracyWait) {
-      throw CLI::ValidationError("--tracy-wait", "this build has no Tracy client (use the 'profile' preset)");
-    }
-#endif
-
-    config.options = optionsForStage(Stage::optimized);
-    if (!stage.empty()) config.options = optionsForStage(*enumByName<Stage>(schema::kStageNames, stage));
-    if (!algorithm.empty()) config.options.algorithm = *enumByName<Algorithm>(schema::kAlgorithmNames, algorithm);
-    if (!earlyExit.empty()) config.options.earlyExits = parseEarlyExits(earlyExit);
-    if (!present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, present);
-
-    if (*csvOpt) {
-      config.csvPath = csv;
-      requireExistingDirectory(csv, "--csv");
-    }
-    if (*metaOpt) {
-      config.metaPath = meta;
-      requireExistingDirectory(meta, "--meta");
-    }
-    for (const auto& text : saveFrames) {
-      SaveFrameRequest request = parseSaveFrame(text);
-      if (request.frame >= config.totalFrames()) {
-        throw CLI::ValidationError("--save-frame", "frame " + std::to_string(request.frame) +
-                                                       " is past the last frame (" +
-                                                       std::to_string(config.totalFrames() - 1) + ")");
-      }
-      requireExistingDirectory(request.file, "--save-frame");
-      config.saveFrames.push_back(std::move(request));
-    }
+    if (raw.version) return CliExit{0, versionText(), ""};
+    applyRendererChoice(raw, config);
+    applyModelOptions(raw, config);
+    applyOutputs(raw, config);
   } catch (const CLI::CallForHelp&) {
     return CliExit{0, app.help(), ""};
   } catch (const CLI::ParseError& e) {

@@ -2,10 +2,23 @@
 #include <iosfwd>
 #include <string>
 
+#include <memory>
+
 #include "app/run_config.h"
-#include "render/present_setup.h"
 
 namespace rt {
+
+namespace gpu {
+class Context;
+}
+
+// Where the renderer's Present phase hands its frames: `upload` copies each
+// frame into the device's present image, so present_ms means the same for
+// every renderer; `none` leaves it where it was rendered.
+struct PresentSetup {
+  PresentMode mode = PresentMode::none;
+  std::shared_ptr<gpu::Context> device;  // required by `upload` and by the GPU renderer
+};
 
 // The Vulkan side of a run: the device (if any) and where Present puts frames.
 struct DeviceSetup {

@@ -24,9 +24,6 @@ void plotFrame([[maybe_unused]] const FrameRecord& r, [[maybe_unused]] Extent ex
   if (r.gpuMs) {
     TracyPlot("gpu_ms", *r.gpuMs);
   }
-  if (r.gpuMs) {
-    TracyPlot("gpu_ms", *r.gpuMs);
-  }
   TracyPlot("Mrays/s", static_cast<double>(extent.pixelCount()) / (r.renderMs * 1e3));
 }
 

@@ -11,50 +11,17 @@
 #include "app/cli.h"
 #include "app/device_setup.h"
 #include "app/frame_loop.h"
+#include "app/renderer_factory.h"
 #include "app/run_metadata.h"
+#include "app/run_summary.h"
 #include "core/atomic_file.h"
 #include "core/profiler.h"
 #include "gpu/context.h"
-#include "render/renderer_factory.h"
 #include "scene/scene_loader.h"
 
 namespace {
 
 constexpr int kExitRuntimeError = 1;
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::ranges::sort(values);
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-void printSummary(const rt::RunIdentity& id, std::span<const rt::FrameRecord> records) {
-  std::vector<double> render, update, present, gpu;
-  for (const auto& r : records) {
-    if (r.warmup) continue;
-    render.push_back(r.renderMs);
-    update.push_back(r.updateMs);
-    present.push_back(r.presentMs);
-    if (r.gpuMs) gpu.push_back(*r.gpuMs);
-  }
-  const double renderMedian = median(render);
-  const double mrays = renderMedian > 0.0 ? static_cast<double>(id.extent.pixelCount()) / (renderMedian * 1e3) : 0.0;
-  std::printf("%s  %s  %dx%d  %s  early_exit=%s  %zu frames\n", std::string(rt::nameOf(id.renderer.kind)).c_str(),
-              id.scene.c_str(), id.extent.width, id.extent.height, std::string(rt::nameOf(id.options.algorithm)).c_str(),
-              id.options.earlyExits.toString().c_str(), render.size());
-  if (!id.renderer.simdTarget.empty() || id.renderer.grain) {
-    std::printf("  threads=%d  lanes=%d  simd_target=%s\n", id.renderer.threads, id.renderer.lanes,
-                id.renderer.simdTarget.empty() ? "-" : id.renderer.simdTarget.c_str());
-  }
-  std::printf("  render_ms  median %.3f  min %.3f  max %.3f   (%.2f Mprimary-rays/s)\n", renderMedian,
-              *std::ranges::min_element(render), *std::ranges::max_element(render), mrays);
-  std::printf("  update_ms  median %.4f   present_ms median %.3f  (present %s)\n", median(update), median(present),
-              std::string(rt::nameOf(id.present)).c_str());
-  if (!gpu.empty()) std::printf("  gpu_ms     median %.3f  min %.3f  max %.3f\n", median(gpu),
-                                *std::ranges::min_element(gpu), *std::ranges::max_element(gpu));
-  if (id.device) std::printf("  device     %s (%s)\n", id.device->name.c_str(), id.device->driverInfo.c_str());
-}
 
 void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, const rt::Scene& scene,
                   const rt::FrameLoopResult& result, const rt::RunTimes& times) {
@@ -131,7 +98,7 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
   // Frames that completed are written even when a later one failed.
   writeOutputs(config, identity, scene, result, times);
   if (result.failure) std::rethrow_exception(result.failure);
-  if (!config.quiet) printSummary(identity, result.records);
+  if (!config.quiet) std::cout << rt::formatRunSummary(identity, rt::summarizeRun(identity.extent, result.records));
   return setup.present.device ? setup.present.device->validationCounter() : nullptr;
 }  // the renderer and the device go here: the layer reports objects left alive
 

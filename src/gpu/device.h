@@ -60,6 +60,11 @@ struct PhysicalDeviceChoice {
 
 std::vector<PhysicalDeviceChoice> describePhysicalDevices(const Instance& instance);
 
+// The loader's driver-selection variables that are set, as a note for "no
+// device" errors (empty when none is): a stray one is the usual reason a
+// device is missing.
+std::string loaderEnvironmentNote();
+
 // The chosen physical device, a logical device and its one compute queue.
 class Device {
  public:

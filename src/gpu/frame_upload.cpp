@@ -8,31 +8,40 @@
 
 namespace rt::gpu {
 
-// Declared in the order of creation: destroyed in reverse, the context last.
+// Declared in the order of creation: destroyed in reverse. The context
+// (FrameUpload::context_) outlives them.
 struct FrameUpload::Resources {
-  Resources(std::shared_ptr<Context> c, Extent e) : context(std::move(c)), extent(e) {}
+  Resources(const Device& d, Extent e) : device(d), extent(e) {}
 
-  std::shared_ptr<Context> context;
+  const Device& device;
   Extent extent;
-  CommandRunner runner{context->device()};
-  PresentImage presentImage{context->device(), runner, extent};
-  Buffer staging{context->device(), frameBytes(extent), vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::upload};
-  Buffer readback{context->device(), frameBytes(extent), vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback};
+  CommandRunner runner{device};
+  PresentImage presentImage{device, runner, extent};
+  Buffer staging{device, frameBytes(extent), vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::upload};
+  Buffer readback{device, frameBytes(extent), vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback};
 };
 
-FrameUpload::FrameUpload(std::shared_ptr<Context> context, Extent extent) {
-  if (!context) throw std::invalid_argument("FrameUpload needs a Vulkan context");
-  resources_ = translateVulkanErrors("present set-up", [&] {
-    return std::make_unique<Resources>(std::move(context), extent);
-  });
+FrameUpload::FrameUpload(std::shared_ptr<Context> context) : context_(std::move(context)) {
+  if (!context_) throw std::invalid_argument("FrameUpload needs a Vulkan context");
 }
 
 FrameUpload::~FrameUpload() = default;
 
-Extent FrameUpload::extent() const { return resources_->extent; }
+void FrameUpload::prepare(Extent extent) {
+  if (resources_ && resources_->extent == extent) return;
+  resources_.reset();  // the old present image goes before the new one is made
+  resources_ = translateVulkanErrors("present set-up", [&] {
+    return std::make_unique<Resources>(context_->device(), extent);
+  });
+}
+
+FrameUpload::Resources& FrameUpload::prepared() {
+  if (!resources_) throw std::logic_error("FrameUpload: prepare() was not called");
+  return *resources_;
+}
 
 void FrameUpload::present(std::span<const Rgba8> frame) {
-  Resources& r = *resources_;
+  Resources& r = prepared();
   if (frame.size() != r.extent.pixelCount()) throw std::logic_error("FrameUpload: frame size differs from the extent");
   translateVulkanErrors("present", [&] {
     std::memcpy(r.staging.mapped().data(), frame.data(), frame.size_bytes());
@@ -43,7 +52,7 @@ void FrameUpload::present(std::span<const Rgba8> frame) {
 }
 
 void FrameUpload::readBack(Image& target) {
-  Resources& r = *resources_;
+  Resources& r = prepared();
   if (target.extent() != r.extent) throw std::logic_error("FrameUpload: target extent differs");
   translateVulkanErrors("frame readback", [&] {
     r.runner.run("frame readback",

@@ -1,40 +1,70 @@
 #pragma once
+// A CPU renderer is a (kernel, scheduler) pair, as the schema's renderer
+// rows name them: the kernel says how pixels are computed (scalar, SIMD
+// packets), the scheduler how the image's spans are handed out (serial,
+// oneTBB). As in oneTBB's tachyon, the strategies differ only in their
+// scheduling file (render/schedule/); everything else is shared.
+#include <algorithm>
 #include <memory>
+#include <stdexcept>
 
-#include "render/present_setup.h"
+#include "render/frame_sink.h"
 #include "render/renderer.h"
 
 namespace rt {
 
-namespace gpu {
-class FrameUpload;
-}
-
-// The CPU renderers render into a working buffer in RAM, which Present then
-// hands on (the thesis' StagingData, copied to the swapchain image).
-class CPURenderer : public Renderer {
+// Kernel: kId, lanes(), simdTarget(), alignment(), prepare(scene, options,
+// slots), beginFrame(camera, image), renderSpan(slot, y, x0, x1).
+// Scheduler: kId, threads(), grain(), partition(),
+// forEachSpan(extent, alignment, body(slot, y, x0, x1)).
+// The per-span call is a template, inlined: no virtual call in the frame.
+template <class Kernel, class Scheduler>
+class CpuRenderer final : public Renderer {
  public:
-  CPURenderer();
-  ~CPURenderer() override;
+  static constexpr RendererKind kKind = rendererFor(Kernel::kId, Scheduler::kId);
 
-  // Before prepare(): where Present puts the frames (default: nowhere, `none`).
-  void setPresentSetup(PresentSetup setup);
-  void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override;
-  void present() override;
-  void readPresented(Image& target) override;
+  // Throws what the kernel and the scheduler throw for settings they reject
+  // (the kernel first: an unsupported lane width is the more specific error).
+  // `sink` receives each presented frame; none keeps it in the working buffer.
+  explicit CpuRenderer(const ParallelSettings& settings = {}, std::unique_ptr<FrameSink> sink = nullptr)
+      : kernel_(settings), scheduler_(settings), sink_(std::move(sink)) {}
 
- protected:
-  [[nodiscard]] const Scene& scene() const { return *scene_; }
-  [[nodiscard]] const RenderOptions& options() const { return options_; }
-  [[nodiscard]] Extent extent() const { return frame_.extent(); }
-  [[nodiscard]] Image& workingBuffer() { return frame_; }
+  [[nodiscard]] RendererInfo info() const override {
+    return {kKind, scheduler_.threads(), kernel_.lanes(), kernel_.simdTarget(), scheduler_.grain(),
+            scheduler_.partition()};
+  }
+
+  void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override {
+    if (frame_.extent() != extent) frame_ = Image(extent);
+    kernel_.prepare(scene, options, scheduler_.threads());
+    if (sink_) sink_->prepare(extent);
+  }
+
+  void render(const CameraFrame& camera) override {
+    kernel_.beginFrame(camera, frame_);
+    scheduler_.forEachSpan(frame_.extent(), kernel_.alignment(),
+                           [this](int slot, int y, int x0, int x1) { kernel_.renderSpan(slot, y, x0, x1); });
+  }
+
+  // The thesis' StagingData: the working buffer goes to the sink, if any.
+  void present() override {
+    if (sink_) sink_->present(frame_.pixels());
+  }
+
+  void readPresented(Image& target) override {
+    if (target.extent() != frame_.extent()) throw std::logic_error("readPresented: target extent differs from the frame's");
+    if (sink_) {
+      sink_->readBack(target);  // what really reached the sink
+    } else {
+      std::ranges::copy(frame_.pixels(), target.pixels().begin());
+    }
+  }
 
  private:
-  const Scene* scene_ = nullptr;
-  RenderOptions options_;
-  Image frame_;
-  PresentSetup presentSetup_;
-  std::unique_ptr<gpu::FrameUpload> upload_;  // mode upload only
+  Kernel kernel_;
+  Scheduler scheduler_;
+  std::unique_ptr<FrameSink> sink_;
+  Image frame_;  // the working buffer
 };
 
 }  // namespace rt

@@ -1,4 +1,5 @@
 #pragma once
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -8,9 +9,12 @@ namespace rt {
 
 using schema::Algorithm;
 using schema::EarlyExit;
+using schema::Kernel;
 using schema::Partition;
 using schema::PresentMode;
 using schema::RendererKind;
+using schema::RendererOption;
+using schema::Scheduler;
 using schema::Stage;
 
 // A set of early exits (docs/render-model.md section 6) as a bit mask over EarlyExit.
@@ -49,6 +53,20 @@ struct ParallelSettings {
   Partition partition = Partition::rows;
 };
 
+// The schema's row for a renderer: its flag, (kernel, scheduler) pair and options.
+constexpr const schema::RendererDefinition& definitionOf(RendererKind kind) {
+  return schema::kRendererDefinitions[static_cast<std::size_t>(kind)];
+}
+
+// The CPU renderer that pairs `kernel` with `scheduler`, as the schema names it.
+constexpr RendererKind rendererFor(Kernel kernel, Scheduler scheduler) {
+  for (std::size_t i = 0; i < schema::kRendererDefinitions.size(); ++i) {
+    const auto& d = schema::kRendererDefinitions[i];
+    if (d.kernel == kernel && d.scheduler == scheduler) return static_cast<RendererKind>(i);
+  }
+  throw std::logic_error("no renderer in the schema pairs this kernel with this scheduler");
+}
+
 template <typename Enum>
 constexpr std::string_view nameOf(Enum value);
 template <>
@@ -61,6 +79,12 @@ template <>
 constexpr std::string_view nameOf(Stage v) { return schema::kStageNames[static_cast<int>(v)]; }
 template <>
 constexpr std::string_view nameOf(PresentMode v) { return schema::kPresentModeNames[static_cast<int>(v)]; }
+template <>
+constexpr std::string_view nameOf(Kernel v) { return schema::kKernelNames[static_cast<int>(v)]; }
+template <>
+constexpr std::string_view nameOf(Scheduler v) { return schema::kSchedulerNames[static_cast<int>(v)]; }
+template <>
+constexpr std::string_view nameOf(RendererOption v) { return schema::kRendererOptionNames[static_cast<int>(v)]; }
 constexpr std::string_view nameOf(Partition v) { return schema::kPartitionNames[static_cast<int>(v)]; }
 
 }  // namespace rt

@@ -1,5 +1,6 @@
 #pragma once
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "core/image.h"
@@ -8,6 +9,12 @@
 #include "scene/scene.h"
 
 namespace rt {
+
+// Asked for a renderer this build or this CPU does not have (exit code 2).
+class RendererUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 // How a renderer runs, as recorded in every CSV row and the metadata.
 struct RendererInfo {
@@ -35,9 +42,9 @@ class Renderer {
   virtual void prepare(const Scene& scene, Extent extent, const RenderOptions& options) = 0;
   // The Render phase: one frame seen from `camera`.
   virtual void render(const CameraFrame& camera) = 0;
-  // The Present phase: hand the frame on to the present image (the
-  // windowless stand-in for the swapchain image), as the renderer's
-  // PresentMode says. Nothing comes back to the host here.
+  // The Present phase: hand the frame on to where it is shown (the
+  // windowless stand-in for the swapchain image), or leave it where it was
+  // rendered. Nothing comes back to the host here.
   virtual void present() = 0;
   // The frame the last present() handed on, copied into `target` (sized
   // like prepare()'s extent). Not part of any timed phase: the frame loop

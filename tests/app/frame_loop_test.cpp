@@ -4,10 +4,8 @@
 
 #include <algorithm>
 
-#include "app/run_metadata.h"
-#include "core/sha256.h"
 #include "render/render_test_support.h"
-#include "render/sequential_renderer.h"
+#include "render/cpu_renderers.h"
 #include "test_support.h"
 
 namespace rt {
@@ -76,30 +74,6 @@ TEST(FrameLoop, KeepsCompletedFramesWhenAFrameFails) {
   ASSERT_TRUE(r.failure);
   EXPECT_EQ(r.records.size(), 3u);
   EXPECT_THROW(std::rethrow_exception(r.failure), std::runtime_error);
-}
-
-TEST(RunMetadata, HasEverySchemaKeyAndTheSceneHash) {
-  RunConfig config = smallRun();
-  config.commandLine = {"raytracer", "--sequential"};
-  const Scene scene = loadScene(config.scenePath);
-  const auto now = std::chrono::system_clock::now();
-  const RunIdentity id{makeRunId(now), scene.name, SequentialRenderer().info(), config.options, config.extent};
-  const nlohmann::json meta = makeRunMetadata(config, id, scene, {now, now});
-  for (auto key : schema::kRunMetadataKeyNames) EXPECT_TRUE(meta.contains(std::string(key))) << key;
-  EXPECT_EQ(meta.size(), schema::kRunMetadataKeyNames.size());
-  EXPECT_EQ(meta["scene"]["sha256"], sha256HexOfFile(config.scenePath));
-  EXPECT_EQ(meta["run_id"], id.runId);
-  EXPECT_EQ(meta["config"]["renderer"], "sequential");
-  EXPECT_GE(meta["host"]["logical_cores"].get<int>(), 1);
-  EXPECT_EQ(meta["build"]["git_commit"].get<std::string>().size() == 40 ||
-                meta["build"]["git_commit"] == "unknown",
-            true);
-}
-
-TEST(RunMetadata, TimesAreRfc3339Utc) {
-  const auto t = std::chrono::system_clock::time_point(std::chrono::milliseconds(1'700'000'000'123));
-  EXPECT_EQ(formatRfc3339(t), "2023-11-14T22:13:20.123Z");
-  EXPECT_EQ(makeRunId(t).rfind("20231114T221320Z-", 0), 0u);
 }
 
 }  // namespace

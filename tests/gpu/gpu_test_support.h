@@ -8,7 +8,6 @@
 #include <memory>
 
 #include "gpu/context.h"
-#include "render/present_setup.h"
 #include "render/render_test_support.h"
 
 namespace rt::test {
@@ -56,7 +55,6 @@ inline ValidatedGpuEnvironment* registerEnvironment() {
 class ValidatedGpuTest : public ::testing::Test {
  protected:
   static std::shared_ptr<gpu::Context> context() { return ValidatedGpuEnvironment::context(); }
-  static PresentSetup presentSetup(PresentMode mode) { return {mode, context()}; }
 
   void SetUp() override { before_ = context()->validationMessages(); }
   void TearDown() override {

@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "render/double_reference.h"
+#include "render/scalar/double_reference.h"
 #include "render/render_test_support.h"
-#include "render/sequential_renderer.h"
+#include "render/cpu_renderers.h"
 #include "test_support.h"
 
 namespace rt {

@@ -8,8 +8,7 @@
 #include <new>
 
 #include "app/frame_recorder.h"
-#include "render/renderer_factory.h"
-#include "render/sequential_renderer.h"
+#include "render/cpu_renderers.h"
 #include "scene/camera.h"
 #include "test_support.h"
 
@@ -28,43 +27,29 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 namespace rt {
 namespace {
 
-TEST(NoAllocation, FramePhasesOfTheSequentialRenderer) {
-  for (const char* name : test::kSceneNames) {
-    const Scene scene = test::loadNamedScene(name);
-    for (const Stage stage : {Stage::original, Stage::single_pass, Stage::optimized}) {
-      SequentialRenderer renderer;
-      const Extent extent{64, 48};
-      renderer.prepare(scene, extent, optionsForStage(stage));
-      FrameRecorder recorder(4);
-      const long before = gAllocations.load();
-      for (long long k = 0; k < 4; ++k) {
-        const CameraFrame camera = cameraAtFrame(scene.camera, k);
-        renderer.render(camera);
-        renderer.present();
-        FrameRecord record;
-        record.frame = k;
-        recorder.record(record);
+// Every CPU renderer sizes its working buffer and scratch in prepare();
+// oneTBB's own task storage does not go through operator new either. The
+// recorder, like the frame loop's, was sized before the frames.
+TEST(NoAllocation, FramePhasesOfEveryCpuRenderer) {
+  for (std::size_t i = 0; i < schema::kRendererDefinitions.size(); ++i) {
+    const auto kind = static_cast<RendererKind>(i);
+    if (!definitionOf(kind).kernel) continue;
+    for (const char* name : test::kSceneNames) {
+      const Scene scene = test::loadNamedScene(name);
+      for (const Stage stage : {Stage::original, Stage::single_pass, Stage::optimized}) {
+        const auto renderer = makeCpuRenderer(kind);
+        renderer->prepare(scene, {67, 29}, optionsForStage(stage));
+        FrameRecorder recorder(4);
+        const long before = gAllocations.load();
+        for (long long k = 0; k < 4; ++k) {
+          renderer->render(cameraAtFrame(scene.camera, k));
+          renderer->present();
+          FrameRecord record;
+          record.frame = k;
+          recorder.record(record);
+        }
+        EXPECT_EQ(gAllocations.load() - before, 0) << nameOf(kind) << " " << name << " stage " << nameOf(stage);
       }
-      EXPECT_EQ(gAllocations.load() - before, 0) << name << " stage " << nameOf(stage);
-    }
-  }
-}
-
-// The SIMD and oneTBB renderers size their scratch in prepare(); oneTBB's
-// own task storage does not go through operator new either.
-TEST(NoAllocation, FramePhasesOfTheParallelRenderers) {
-  const Scene scene = test::loadNamedScene("random20");
-  for (const RendererKind kind : {RendererKind::simd_tbb, RendererKind::simd_only, RendererKind::tbb_only}) {
-    for (const Stage stage : {Stage::original, Stage::optimized}) {
-      const auto renderer = makeRenderer(kind);
-      const Extent extent{67, 29};
-      renderer->prepare(scene, extent, optionsForStage(stage));
-      const long before = gAllocations.load();
-      for (long long k = 0; k < 4; ++k) {
-        renderer->render(cameraAtFrame(scene.camera, k));
-        renderer->present();
-      }
-      EXPECT_EQ(gAllocations.load() - before, 0) << nameOf(kind) << " stage " << nameOf(stage);
     }
   }
 }

@@ -1,9 +1,9 @@
 // The SIMD ray-tracing kernel: docs/render-model.md sections 3-7 on packets of
 // horizontally adjacent pixels, one Highway lane per pixel. Compiled once
-// per target (simd_kernel.cc includes it through foreach_target.h), hence
+// per target (packet_kernels.cc includes it through foreach_target.h), hence
 // the toggling include guard instead of #pragma once.
 //
-// It mirrors scalar_kernel.h operation for operation (same formulas, same
+// It mirrors scalar/scalar_model.h operation for operation (same formulas, same
 // evaluation order, a masked lane where the scalar code branches), so the
 // image agrees with the sequential renderer; the only intended differences
 // are fused multiply-adds in the sphere test and the power function.
@@ -24,121 +24,15 @@
 #include <span>
 
 #include "model_constants.h"
-#include "render/simd/simd_kernel.h"
+#include "render/simd/packet_kernels.h"
+#include "render/simd/packet_types-inl.h"
+#include "render/simd/sphere_query-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace rt::simd::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-template <class D>
-using VecF = hn::Vec<D>;
-template <class D>
-using MaskF = hn::Mask<D>;
-
-constexpr float kEpsilon = static_cast<float>(RT_HIT_EPSILON);
-
-// ---- Packet types (the thesis' Vec3_x4, Ray_x4, RaycastHit_x4) ----------
-
-template <class D>
-struct Vec3x {
-  VecF<D> x, y, z;
-};
-
-template <class D>
-struct RayX {
-  Vec3x<D> origin;
-  Vec3x<D> direction;  // unit in every lane
-};
-
-template <class D>
-struct HitX {
-  MaskF<D> hit;  // lanes that hit a sphere; the other lanes hold junk
-  Vec3x<D> position;
-  Vec3x<D> normal;
-  VecF<D> distance;
-  Vec3x<D> sphereColor;
-};
-
-// ---- Vec3x arithmetic: the same evaluation order as glm's ---------------
-
-template <class D>
-HWY_INLINE Vec3x<D> Broadcast(D d, const Float3& v) {
-  return {hn::Set(d, v[0]), hn::Set(d, v[1]), hn::Set(d, v[2])};
-}
-template <class D>
-HWY_INLINE Vec3x<D> operator+(const Vec3x<D>& a, const Vec3x<D>& b) {
-  return {a.x + b.x, a.y + b.y, a.z + b.z};
-}
-template <class D>
-HWY_INLINE Vec3x<D> operator-(const Vec3x<D>& a, const Vec3x<D>& b) {
-  return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
-template <class D>
-HWY_INLINE Vec3x<D> operator*(const Vec3x<D>& a, const Vec3x<D>& b) {
-  return {a.x * b.x, a.y * b.y, a.z * b.z};
-}
-template <class D>
-HWY_INLINE Vec3x<D> operator*(VecF<D> s, const Vec3x<D>& v) {
-  return {s * v.x, s * v.y, s * v.z};
-}
-template <class D>
-HWY_INLINE Vec3x<D> operator/(const Vec3x<D>& v, VecF<D> s) {
-  return {v.x / s, v.y / s, v.z / s};
-}
-template <class D>
-HWY_INLINE VecF<D> Dot(const Vec3x<D>& a, const Vec3x<D>& b) {
-  return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-// glm::normalize: v * (1 / sqrt(dot(v, v))).
-template <class D>
-HWY_INLINE Vec3x<D> Normalize(D d, const Vec3x<D>& v) {
-  return (hn::Set(d, 1.0f) / hn::Sqrt(Dot(v, v))) * v;
-}
-template <class D>
-HWY_INLINE Vec3x<D> Select(MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) {
-  return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z)};
-}
-
-// ---- Intersection (docs/render-model.md section 3) --------------------------------------
-
-// Nearest sphere per lane over all spheres, lower index on a tie. Lanes
-// outside `active` (past the row's end, or already missed) report no hit.
-// kSphereExit / kDiscriminantExit are the thesis' two SIMD early exits.
-template <bool kSphereExit, bool kDiscriminantExit, class D>
-HWY_INLINE void NearestSphere(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
-                              VecF<D>& bestIndex) {
-  const VecF<D> eps = hn::Set(d, kEpsilon);
-  bestT = hn::Set(d, std::numeric_limits<float>::infinity());
-  bestIndex = hn::Set(d, -1.0f);
-  const Vec3x<D>& o = ray.origin;
-  const Vec3x<D>& dir = ray.direction;
-  for (int i = 0; i < s.count; ++i) {
-    const VecF<D> ocx = o.x - hn::Set(d, s.centerX[i]);
-    const VecF<D> ocy = o.y - hn::Set(d, s.centerY[i]);
-    const VecF<D> ocz = o.z - hn::Set(d, s.centerZ[i]);
-    const VecF<D> b = hn::MulAdd(ocz, dir.z, hn::MulAdd(ocy, dir.y, ocx * dir.x));
-    // f = oc - b d: centre to the point of closest approach; disc = r^2 - |f|^2.
-    const VecF<D> fx = hn::NegMulAdd(b, dir.x, ocx);
-    const VecF<D> fy = hn::NegMulAdd(b, dir.y, ocy);
-    const VecF<D> fz = hn::NegMulAdd(b, dir.z, ocz);
-    const VecF<D> disc = hn::Set(d, s.radiusSquared[i]) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
-    const MaskF<D> real = hn::And(active, disc >= hn::Zero(d));
-    if constexpr (kDiscriminantExit) {
-      if (hn::AllFalse(d, real)) continue;  // before the sqrt and all that follows
-    }
-    const VecF<D> h = hn::Sqrt(disc);  // NaN where disc < 0; those lanes are not `real`
-    const VecF<D> minusB = hn::Zero(d) - b;
-    const VecF<D> near = minusB - h;
-    const VecF<D> t = hn::IfThenElse(near <= eps, minusB + h, near);
-    const MaskF<D> hit = hn::And(real, t > eps);
-    if constexpr (kSphereExit) {
-      if (hn::AllFalse(d, hit)) continue;  // no lane hits: skip the bookkeeping
-    }
-    const MaskF<D> closer = hn::And(hit, t < bestT);
-    bestT = hn::IfThenElse(closer, t, bestT);
-    bestIndex = hn::IfThenElse(closer, hn::Set(d, static_cast<float>(i)), bestIndex);
-  }
-}
+// ---- Intersection (docs/render-model.md section 3) ----------------------
 
 template <class D>
 HWY_INLINE Vec3x<D> Gather3(D d, const float* x, const float* y, const float* z, hn::Vec<hn::RebindToSigned<D>> i) {
@@ -242,7 +136,7 @@ enum SegmentSlot : std::size_t {
   kPositionX, kPositionY, kPositionZ, kNormalX, kNormalY, kNormalZ,
   kDistance, kColorR, kColorG, kColorB, kHitMask, kSegmentSlots
 };
-static_assert(kSegmentSlots == kSegmentVectors, "scratch sizing in simd_kernel.h must match");
+static_assert(kSegmentSlots == kSegmentVectors, "scratch sizing in packet_kernels.h must match");
 
 template <class D>
 class SegmentStore {
@@ -353,10 +247,11 @@ HWY_INLINE void WritePixels(D d, const Vec3x<D>& color, Rgba8* out, std::size_t 
 
 template <class D, unsigned kVariant>
 void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> scratch) {
-  constexpr bool kTwoPass = kVariant & 1u;
-  constexpr bool kBounce = kVariant & 2u;
-  constexpr bool kSphere = kVariant & 4u;
-  constexpr bool kDiscriminant = kVariant & 8u;
+  constexpr KernelVariant kV = KernelVariant::fromIndex(kVariant);
+  constexpr bool kTwoPass = kV.twoPass;
+  constexpr bool kBounce = kV.bounceExit;
+  constexpr bool kSphere = kV.sphereExit;
+  constexpr bool kDiscriminant = kV.discriminantExit;
   const D d;
   const int lanes = static_cast<int>(hn::Lanes(d));
   const float h = static_cast<float>(f.extent.height);
@@ -386,7 +281,7 @@ template <std::size_t kLanes>
 LaneKernels CappedKernels() {
   const hn::CappedTag<float, kLanes> d;
   if (hn::Lanes(d) != kLanes) return {};
-  return MakeLaneKernels(d, std::make_integer_sequence<unsigned, kVariantCount>());
+  return MakeLaneKernels(d, std::make_integer_sequence<unsigned, KernelVariant::kCount>());
 }
 
 }  // namespace rt::simd::HWY_NAMESPACE

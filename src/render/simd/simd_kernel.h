@@ -1,115 +1,67 @@
 #pragma once
-// The plain interface of the SIMD kernel: no Highway types, so the renderer,
-// the factory and the tests include it without compiling per target. The
-// kernel itself (packet_kernel-inl.h) is compiled once per Highway target in
-// simd_kernel.cc and reached through one dynamic dispatch per renderer.
-#include <array>
-#include <cstdint>
+// No Highway types here: the per-target code lives behind packet_kernels.h.
 #include <span>
 #include <string>
 #include <vector>
 
 #include "core/image.h"
+#include "render/renderer.h"
+#include "render/simd/packet_kernels.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
 
-namespace rt::simd {
+namespace rt {
 
-// The scene's spheres as structure of arrays: one contiguous float array per
-// component, so a packet loads one sphere's component with one broadcast.
-struct SphereArrays {
-  const float* centerX = nullptr;
-  const float* centerY = nullptr;
-  const float* centerZ = nullptr;
-  const float* radius = nullptr;
-  const float* radiusSquared = nullptr;  // radius * radius in float, as the scalar kernel computes it
-  const float* colorR = nullptr;
-  const float* colorG = nullptr;
-  const float* colorB = nullptr;
-  int count = 0;
-};
-
-using Float3 = std::array<float, 3>;
-
-// Everything one frame's kernel calls read; built once per frame.
-struct FrameParams {
-  SphereArrays spheres;
-  Float3 cameraPosition;
-  Float3 forward;
-  Float3 right;
-  Float3 up;
-  float tanHalfFov;
-  Float3 toLight;  // -directionalLightDirection
-  Float3 lightColor;
-  Float3 ambientColor;
-  Float3 background;
-  float reflectivity;
-  float shininess;
-  float specularStrength;
-  int maxDepth;
-  Extent extent;
-  Rgba8* pixels;  // the working buffer, row-major, extent.width pixels per row
-};
-
-// Which of the 16 kernel variants runs: the algorithm and the three early
-// exits are template parameters of the kernel, so no option is tested per ray.
-struct Variant {
-  bool twoPass = false;
-  bool bounceExit = false;
-  bool sphereExit = false;
-  bool discriminantExit = false;
-  [[nodiscard]] unsigned index() const {
-    return (twoPass ? 1u : 0u) | (bounceExit ? 2u : 0u) | (sphereExit ? 4u : 0u) | (discriminantExit ? 8u : 0u);
-  }
-};
-inline constexpr unsigned kVariantCount = 16;
-
-// Renders pixels x0..x1-1 of row y; x0 is a multiple of the packet width.
-// `scratch` holds the two-pass forward pass' packets (scratchFloats() floats,
-// 64-byte aligned); the single-pass variants do not touch it.
-using SpanKernel = void (*)(const FrameParams& frame, int y, int x0, int x1, std::span<float> scratch);
-
-// Per packet width: the kernel's 16 variants, or none where the target
-// cannot hold that many float lanes.
-struct LaneKernels {
-  int lanes = 0;
-  SpanKernel variants[kVariantCount] = {};
-};
-
-// What the dispatched target offers. Taken once per renderer, so the target
-// recorded in the CSV is the one whose code renders, even if a test forces
-// another target later.
-struct TargetKernels {
-  std::int64_t target = 0;  // a HWY_* bit
-  int nativeLanes = 0;      // lanes of the widest float vector
-  LaneKernels native;       // --lanes native
-  LaneKernels capped[3];    // --lanes 4, 8, 16 (lanes 0 where unsupported)
-};
-
-// Vectors stored per two-pass segment: ray origin and direction, hit
-// position, normal, distance, sphere colour and the hit mask.
-inline constexpr std::size_t kSegmentVectors = 17;
-
-// Floats of two-pass scratch a thread needs for `lanes`-wide packets and
-// `maxDepth` stored segments.
-inline std::size_t scratchFloats(int lanes, int maxDepth) {
-  return kSegmentVectors * static_cast<std::size_t>(lanes) * static_cast<std::size_t>(maxDepth);
-}
-
-// The kernels of the best target the CPU supports (or the one a test forced).
-TargetKernels dispatchedKernels();
-
-// Highway's name of a target bit ("AVX3", "SSE4", ...).
-std::string targetName(std::int64_t target);
-
-// Targets compiled into the kernel that this CPU can run, best first.
-std::vector<std::int64_t> availableTargets();
-
-// For tests: makes dispatch pick `target` while alive, then lifts the mock.
-class ScopedTargetOverride {
+// Thrown when --lanes asks for more float lanes than the dispatched target
+// has: the renderer as asked does not exist on this CPU.
+class LanesUnsupported : public RendererUnavailable {
  public:
-  explicit ScopedTargetOverride(std::int64_t target);
-  ~ScopedTargetOverride();
-  ScopedTargetOverride(const ScopedTargetOverride&) = delete;
-  ScopedTargetOverride& operator=(const ScopedTargetOverride&) = delete;
+  using RendererUnavailable::RendererUnavailable;
 };
 
-}  // namespace rt::simd
+// The SIMD kernel (simd_tbb, simd_only; the thesis' SIMDRenderer): packets
+// of `lanes` horizontally adjacent pixels traced together in SIMD
+// registers, the instruction set chosen per CPU at run time (Highway).
+class SimdKernel {
+ public:
+  static constexpr Kernel kId = Kernel::simd;
+
+  // Picks the kernels of the best target the CPU has (or a test's forced
+  // one) once, here, at settings.lanes. Throws LanesUnsupported or
+  // std::invalid_argument.
+  explicit SimdKernel(const ParallelSettings& settings = {});
+
+  [[nodiscard]] int lanes() const { return kernels_.lanes; }
+  [[nodiscard]] std::string simdTarget() const { return simd::targetName(target_.target); }
+  // A span starts at a multiple of the packet width.
+  [[nodiscard]] int alignment() const { return kernels_.lanes; }
+
+  // The spheres as arrays, the scene's light and shading, the variant the
+  // options select, and two-pass scratch for `slots` worker threads.
+  void prepare(const Scene& scene, const RenderOptions& options, int slots);
+  void beginFrame(const CameraFrame& camera, Image& frame);
+  // Pixels x0..x1-1 of row y; `slot` (the worker's index) picks its scratch.
+  void renderSpan(int slot, int y, int x0, int x1) { kernel_(params_, y, x0, x1, scratchOf(slot)); }
+
+ private:
+  // A cache line: scratch slots are whole lines, so two threads never write
+  // to one line, and every packet store is aligned.
+  struct alignas(64) CacheLine {
+    float floats[16];
+  };
+
+  void prepareSpheres(const Scene& scene);
+  void prepareScratch(int maxDepth, int slots);
+  [[nodiscard]] std::span<float> scratchOf(int slot);
+
+  simd::TargetKernels target_;
+  simd::LaneKernels kernels_;
+  simd::SpanKernel kernel_ = nullptr;  // the variant the options select
+  simd::FrameParams params_{};         // scene parts set in prepare(), camera per frame
+
+  std::vector<float> sphereData_;  // SoA: 8 arrays of sphereCount floats each
+  std::vector<CacheLine> scratch_;  // one slot per thread for the two-pass forward pass
+  std::size_t scratchLinesPerSlot_ = 0;
+};
+
+}  // namespace rt

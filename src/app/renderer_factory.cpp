@@ -1,0 +1,22 @@
+#include "app/renderer_factory.h"
+
+#include <stdexcept>
+
+#include "gpu/frame_upload.h"
+#include "gpu/gpu_renderer.h"
+#include "render/cpu_renderers.h"
+
+namespace rt {
+
+std::unique_ptr<Renderer> makeRenderer(RendererKind kind, const ParallelSettings& settings,
+                                       const PresentSetup& present) {
+  if (!definitionOf(kind).kernel) return std::make_unique<gpu::GPURenderer>(present.device, present.mode);
+  std::unique_ptr<FrameSink> sink;
+  if (present.mode == PresentMode::upload) {
+    if (!present.device) throw std::invalid_argument("present mode 'upload' needs a Vulkan device");
+    sink = std::make_unique<gpu::FrameUpload>(present.device);
+  }
+  return makeCpuRenderer(kind, settings, std::move(sink));
+}
+
+}  // namespace rt

@@ -1,0 +1,182 @@
+#include "gpu/gpu_renderer.h"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "core/profiler.h"
+#include "gpu/context.h"
+#include "gpu/gpu_profiler.h"
+#include "gpu/gpu_layout.h"
+#include "gpu/present_image.h"
+#include "gpu/raytrace_pipeline.h"
+#include "gpu/timestamps.h"
+
+namespace rt::gpu {
+namespace {
+
+using PipelineStage = vk::PipelineStageFlagBits;
+using Access = vk::AccessFlagBits;
+
+// The output image's two states: written by the shader in GENERAL, read by
+// copies (present, readback) in TRANSFER_SRC_OPTIMAL.
+constexpr ImageState kShaderWrite{PipelineStage::eComputeShader, Access::eShaderWrite, vk::ImageLayout::eGeneral};
+constexpr ImageState kTransferRead{PipelineStage::eTransfer, Access::eTransferRead,
+                                        vk::ImageLayout::eTransferSrcOptimal};
+
+SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options) {
+  return {.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
+          .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
+          .maxDepth = scene.render.maxDepth};
+}
+
+// The spheres into device-local memory through a staging buffer: the
+// shader reads them for every ray, so they must not sit in host memory.
+void uploadSpheres(const Device& device, CommandRunner& runner, const Buffer& target,
+                   std::span<const GPUSphere> spheres) {
+  const Buffer staging(device, target.size(), vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::upload);
+  std::memcpy(staging.mapped().data(), spheres.data(), spheres.size_bytes());
+  staging.flushHostWrites();
+  runner.run("scene upload", [&](const vk::raii::CommandBuffer& cb) {
+    cb.copyBuffer(staging.handle(), target.handle(), vk::BufferCopy{.size = spheres.size_bytes()});
+    // The spheres are written before any dispatch reads them.
+    bufferBarrier(cb, target.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
+                       PipelineStage::eComputeShader, Access::eShaderRead);
+  });
+}
+
+}  // namespace
+
+// What lives as long as the renderer: one command buffer for every phase and the timestamp queries.
+struct GPURenderer::DeviceObjects {
+  explicit DeviceObjects(const Device& d) : device(d) {}
+  const Device& device;
+  CommandRunner runner{device};
+  DispatchTimer timer{device};
+  GpuProfiler profiler{device, runner};
+};
+
+// What prepare() makes for one scene, size and variant. Declared in
+// creation order, so the descriptor set goes before the buffer and image
+// it names.
+struct GPURenderer::SceneObjects {
+  SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& options, PresentMode mode)
+      : scene(s),
+        extent(e),
+        pipeline(d.device, specializationFor(s, options)),
+        spheres(d.device, sizeof(GPUSphere) * s.spheres.size(),
+                vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+                MemoryUse::deviceLocal),
+        output(d.device, e,
+               vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc),
+        bindings(d.device, pipeline, spheres, output),
+        readback(d.device, frameBytes(e), vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback) {
+    uploadSpheres(d.device, d.runner, spheres, toGpuSpheres(s.spheres));
+    if (mode == PresentMode::upload) presentImage.emplace(d.device, d.runner, e);
+  }
+
+  const Scene& scene;
+  Extent extent;
+  RaytracePipeline pipeline;
+  Buffer spheres;
+  DeviceImage output;
+  RaytraceBindings bindings;
+  Buffer readback;
+  std::optional<PresentImage> presentImage;  // mode upload only
+  vk::ImageLayout outputLayout = vk::ImageLayout::eUndefined;  // as the last submitted commands left it
+
+  // Records the output's move from the shader's writes to copies' reads, once per frame.
+  void recordOutputReadable(const vk::raii::CommandBuffer& cb) {
+    if (outputLayout == kTransferRead.layout) return;
+    if (outputLayout != kShaderWrite.layout) throw std::logic_error("GPU renderer: no frame rendered yet");
+    // The shader's writes are complete and visible before a copy reads them.
+    imageBarrier(cb, output.handle(), kShaderWrite, kTransferRead);
+    outputLayout = kTransferRead.layout;
+  }
+};
+
+GPURenderer::GPURenderer(std::shared_ptr<Context> device, PresentMode present)
+    : context_(std::move(device)), presentMode_(present) {
+  if (!context_) throw std::invalid_argument("the GPU renderer needs a Vulkan device");
+  device_ = translateVulkanErrors("GPU renderer set-up",
+                                       [&] { return std::make_unique<DeviceObjects>(context_->device()); });
+}
+
+GPURenderer::~GPURenderer() = default;
+
+RendererInfo GPURenderer::info() const {
+  RendererInfo info;
+  info.kind = RendererKind::gpu;
+  info.threads = 0;  // the device schedules the work
+  info.lanes = 0;
+  return info;
+}
+
+void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
+  if (scene.spheres.empty()) throw std::invalid_argument("the GPU renderer needs at least one sphere");
+  scene_.reset();  // the old objects go before new ones take their memory
+  gpuMs_.reset();
+  scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
+    return std::make_unique<SceneObjects>(*device_, scene, extent, options, presentMode_);
+  });
+}
+
+GPURenderer::SceneObjects& GPURenderer::prepared() {
+  if (!scene_) throw std::logic_error("GPU renderer: prepare() was not called");
+  return *scene_;
+}
+
+void GPURenderer::render(const CameraFrame& camera) {
+  SceneObjects& s = prepared();
+  const FrameConstants constants = makeFrameConstants(s.scene, camera, s.extent);
+  const DispatchTimer& timer = device_->timer;
+  [[maybe_unused]] const GpuProfiler& profiler = device_->profiler;
+  translateVulkanErrors("render", [&] {
+    device_->runner.run("render", [&](const vk::raii::CommandBuffer& cb) {
+      // Last frame's GPU zones have completed (its submit was waited for).
+      TracyVkCollect(profiler.context(), *cb);
+      timer.recordReset(cb);
+      // The last frame's copies out of the image finish before the shader
+      // overwrites it; from UNDEFINED, since every pixel is written anew.
+      imageBarrier(cb, s.output.handle(), {PipelineStage::eTransfer, {}, vk::ImageLayout::eUndefined},
+                        kShaderWrite);
+      s.pipeline.recordBind(cb, s.bindings.set(), constants);
+      TracyVkZone(profiler.context(), *cb, "raytrace dispatch");
+      timer.recordStart(cb);
+      cb.dispatch(workgroupCount(s.extent.width, RT_WORKGROUP_SIZE_X),
+                  workgroupCount(s.extent.height, RT_WORKGROUP_SIZE_Y), 1);
+      timer.recordEnd(cb);
+    });
+    s.outputLayout = kShaderWrite.layout;
+    gpuMs_ = timer.readMs();
+  });
+}
+
+void GPURenderer::present() {
+  SceneObjects& s = prepared();
+  if (!s.presentImage) return;  // mode none: the frame stays in the storage image
+  translateVulkanErrors("present", [&] {
+    device_->runner.run("present", [&](const vk::raii::CommandBuffer& cb) {
+      TracyVkZone(device_->profiler.context(), *cb, "present copy");
+      s.recordOutputReadable(cb);
+      s.presentImage->recordCopyFrom(cb, s.output.handle());
+    });
+  });
+}
+
+void GPURenderer::readPresented(Image& target) {
+  SceneObjects& s = prepared();
+  if (target.extent() != s.extent) throw std::logic_error("readPresented: target extent differs from the frame's");
+  translateVulkanErrors("frame readback", [&] {
+    device_->runner.run("frame readback", [&](const vk::raii::CommandBuffer& cb) {
+      if (s.presentImage) {
+        s.presentImage->recordReadback(cb, s.readback.handle());
+      } else {
+        s.recordOutputReadable(cb);
+        recordImageReadback(cb, s.output.handle(), kTransferRead.layout, s.extent, s.readback.handle());
+      }
+    });
+    copyToImage(s.readback, target);
+  });
+}
+
+}  // namespace rt::gpu

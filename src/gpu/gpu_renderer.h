@@ -1,0 +1,47 @@
+#pragma once
+#include <memory>
+#include <optional>
+
+#include "render/renderer.h"
+
+namespace rt::gpu {
+
+class Context;
+
+// The thesis' GPURenderer: a Vulkan compute shader, one invocation per
+// pixel, on any Vulkan 1.2 device (a GPU, or lavapipe on the CPU).
+// Spheres live in a storage buffer, camera, light and sizes go as push
+// constants every frame, the shader writes an rgba8 storage image, and
+// Present copies that into the present image. Vulkan stays out of this
+// header: the objects live in gpu_renderer.cpp.
+class GPURenderer final : public Renderer {
+ public:
+  // `device` is required; `present` picks the Present path: `upload`
+  // copies each frame into the present image, `none` leaves it in the
+  // storage image. Throws std::invalid_argument without a device.
+  GPURenderer(std::shared_ptr<Context> device, PresentMode present);
+  ~GPURenderer() override;
+
+  [[nodiscard]] RendererInfo info() const override;
+  // Builds the pipeline variant (algorithm and bounce exit are
+  // specialization constants), uploads the spheres, sizes the images.
+  void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override;
+  // Records, submits and waits for the dispatch; GPU timestamps around it.
+  void render(const CameraFrame& camera) override;
+  void present() override;
+  void readPresented(Image& target) override;
+  [[nodiscard]] std::optional<double> lastGpuMs() const override { return gpuMs_; }
+
+ private:
+  struct DeviceObjects;
+  struct SceneObjects;
+  SceneObjects& prepared();  // throws std::logic_error before prepare()
+
+  std::shared_ptr<Context> context_;  // declared first, so destroyed last
+  PresentMode presentMode_;
+  std::unique_ptr<DeviceObjects> device_;
+  std::unique_ptr<SceneObjects> scene_;
+  std::optional<double> gpuMs_;
+};
+
+}  // namespace rt::gpu

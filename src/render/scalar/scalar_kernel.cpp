@@ -1,0 +1,14 @@
+#include "render/scalar/scalar_kernel.h"
+
+#include "render/scalar/scalar_span.h"
+
+namespace rt {
+
+void ScalarKernel::prepare(const Scene& scene, const RenderOptions& options, int /*slots*/) {
+  inputs_ = kernel::ShadingInputs<float>::from(scene);
+  visitScalarVariant(options, [&]<Algorithm kAlgorithm, bool kBounce>() {
+    span_ = &renderScalarSpan<float, kAlgorithm, kBounce>;
+  });
+}
+
+}  // namespace rt

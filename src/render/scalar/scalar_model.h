@@ -1,0 +1,137 @@
+#pragma once
+// The scalar ray-tracing kernel of docs/render-model.md sections 3-5:
+// shading, the bounce and both algorithms, shared by the scalar renderers
+// (float) and the double-precision reference used by the tests. Everything
+// here is inline and allocation-free: it runs per ray.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <span>
+
+#include "core/image.h"
+#include "render/scalar/ray.h"
+#include "render/scalar/sphere_query.h"
+#include "scene/scene.h"
+
+namespace rt::kernel {
+
+// Scene data a kernel reads per ray, converted once per frame.
+template <typename Real>
+struct ShadingInputs {
+  std::span<const Sphere> spheres;
+  Vec3<Real> toLight;  // -directionalLightDirection
+  Vec3<Real> lightColor;
+  Vec3<Real> ambientColor;
+  Vec3<Real> background;
+  Real reflectivity;
+  Real shininess;
+  Real specularStrength;
+  int maxDepth;
+
+  static ShadingInputs from(const Scene& scene) {
+    return {scene.spheres,
+            -Vec3<Real>(scene.lightData.directionalLightDirection),
+            Vec3<Real>(scene.lightData.directionalLightColor),
+            Vec3<Real>(scene.lightData.ambientLightColor),
+            Vec3<Real>(scene.render.background),
+            static_cast<Real>(scene.render.reflectivity),
+            static_cast<Real>(scene.render.shininess),
+            static_cast<Real>(scene.render.specularStrength),
+            scene.render.maxDepth};
+  }
+};
+
+// Phong: ambient + diffuse + specular from one directional light (docs/render-model.md section 4).
+template <typename Real>
+inline Vec3<Real> localColor(const ShadingInputs<Real>& in, const RaycastHit<Real>& hit,
+                             const Vec3<Real>& direction, const Vec3<Real>& sphereColor) {
+  const Vec3<Real>& n = hit.normal;
+  const Vec3<Real>& l = in.toLight;
+  const Vec3<Real> ambient = in.ambientColor * sphereColor;
+  const Vec3<Real> diffuse = std::max(glm::dot(n, l), Real(0)) * in.lightColor * sphereColor;
+  const Vec3<Real> rr = -l - Real(2) * glm::dot(-l, n) * n;  // reflect(-l, n)
+  const Real highlight = std::pow(std::max(glm::dot(rr, -direction), Real(0)), in.shininess);
+  return ambient + diffuse + in.specularStrength * highlight * in.lightColor;
+}
+
+// The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
+template <typename Real>
+inline Ray<Real> reflectedRay(const Ray<Real>& ray, const RaycastHit<Real>& hit) {
+  const Vec3<Real>& d = ray.direction;
+  const Vec3<Real>& n = hit.normal;
+  return {hit.position + n * kEpsilon<Real>, glm::normalize(d - Real(2) * glm::dot(d, n) * n)};
+}
+
+// Single-pass: accumulate colour and throughput on the way down.
+template <typename Real, bool kBounceExit>
+inline Vec3<Real> traceSinglePass(const ShadingInputs<Real>& in, Ray<Real> ray) {
+  Vec3<Real> color(0);
+  Vec3<Real> throughput(1);
+  for (int depth = 0; depth < in.maxDepth; ++depth) {
+    const RaycastHit<Real> hit = nearestHit(ray, in.spheres);
+    if (!hit.hit()) {
+      color += throughput * in.background;
+      if constexpr (kBounceExit) break;
+      // Without the early exit the dead ray is traced again (it misses
+      // again) and adds nothing, as a masked SIMD lane would.
+      throughput = Vec3<Real>(0);
+      continue;
+    }
+    const Vec3<Real> sphereColor(in.spheres[static_cast<std::size_t>(hit.sphere)].color);
+    color += throughput * localColor(in, hit, ray.direction, sphereColor);
+    throughput *= in.reflectivity * sphereColor;
+    ray = reflectedRay(ray, hit);
+  }
+  return color;
+}
+
+// One stored segment of the two-pass algorithm's forward pass.
+template <typename Real>
+struct PathSegment {
+  Ray<Real> ray;
+  RaycastHit<Real> hit;
+  Vec3<Real> sphereColor;
+};
+
+// Two-pass (the thesis' original): the forward pass stores every ray, hit
+// and sphere colour; the backward pass walks them from the last segment.
+template <typename Real, bool kBounceExit>
+inline Vec3<Real> traceTwoPass(const ShadingInputs<Real>& in, Ray<Real> ray,
+                               std::span<PathSegment<Real>, kMaxDepthLimit> segments) {
+  int count = 0;
+  for (; count < in.maxDepth; ++count) {
+    PathSegment<Real>& s = segments[static_cast<std::size_t>(count)];
+    s.ray = ray;
+    s.hit = nearestHit(ray, in.spheres);
+    if (!s.hit.hit()) {
+      if constexpr (kBounceExit) {
+        ++count;
+        break;
+      }
+      continue;  // a segment after a miss is a miss: the ray stays as it was
+    }
+    s.sphereColor = Vec3<Real>(in.spheres[static_cast<std::size_t>(s.hit.sphere)].color);
+    ray = reflectedRay(ray, s.hit);
+  }
+  Vec3<Real> acc(0);
+  for (int i = count - 1; i >= 0; --i) {
+    const PathSegment<Real>& s = segments[static_cast<std::size_t>(i)];
+    if (s.hit.hit()) {
+      acc = acc * in.reflectivity * s.sphereColor + localColor(in, s.hit, s.ray.direction, s.sphereColor);
+    } else {
+      acc = in.background;
+    }
+  }
+  return acc;
+}
+
+// Spec section 7: clamp to [0, 1], round(255 c), opaque, no gamma.
+template <typename Real>
+inline Rgba8 toRgba8(const Vec3<Real>& c) {
+  const auto channel = [](Real v) {
+    return static_cast<std::uint8_t>(std::clamp(v, Real(0), Real(1)) * Real(255) + Real(0.5));
+  };
+  return {channel(c.x), channel(c.y), channel(c.z), 255};
+}
+
+}  // namespace rt::kernel

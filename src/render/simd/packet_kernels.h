@@ -1,0 +1,106 @@
+#pragma once
+// The plain interface of the packet kernels: no Highway types, so the SIMD
+// kernel class and the tests include it without compiling per target. The
+// kernels themselves (packet_kernel-inl.h) are compiled once per Highway
+// target in packet_kernels.cc and reached through one dynamic dispatch per
+// renderer.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "render/kernel_variant.h"
+
+namespace rt::simd {
+
+// The scene's spheres as structure of arrays: one contiguous float array per
+// component, so a packet loads one sphere's component with one broadcast.
+struct SphereArrays {
+  const float* centerX = nullptr;
+  const float* centerY = nullptr;
+  const float* centerZ = nullptr;
+  const float* radius = nullptr;
+  const float* radiusSquared = nullptr;  // radius * radius in float, as the scalar kernel computes it
+  const float* colorR = nullptr;
+  const float* colorG = nullptr;
+  const float* colorB = nullptr;
+  int count = 0;
+};
+
+using Float3 = std::array<float, 3>;
+
+// Everything one frame's kernel calls read; built once per frame.
+struct FrameParams {
+  SphereArrays spheres;
+  Float3 cameraPosition;
+  Float3 forward;
+  Float3 right;
+  Float3 up;
+  float tanHalfFov;
+  Float3 toLight;  // -directionalLightDirection
+  Float3 lightColor;
+  Float3 ambientColor;
+  Float3 background;
+  float reflectivity;
+  float shininess;
+  float specularStrength;
+  int maxDepth;
+  Extent extent;
+  Rgba8* pixels;  // the working buffer, row-major, extent.width pixels per row
+};
+
+// Renders pixels x0..x1-1 of row y; x0 is a multiple of the packet width.
+// `scratch` holds the two-pass forward pass' packets (scratchFloats() floats,
+// 64-byte aligned); the single-pass variants do not touch it.
+using SpanKernel = void (*)(const FrameParams& frame, int y, int x0, int x1, std::span<float> scratch);
+
+// Per packet width: the kernel's 16 variants, or none where the target
+// cannot hold that many float lanes.
+struct LaneKernels {
+  int lanes = 0;
+  SpanKernel variants[KernelVariant::kCount] = {};  // by KernelVariant::index()
+};
+
+// What the dispatched target offers. Taken once per renderer, so the target
+// recorded in the CSV is the one whose code renders, even if a test forces
+// another target later.
+struct TargetKernels {
+  std::int64_t target = 0;  // a HWY_* bit
+  int nativeLanes = 0;      // lanes of the widest float vector
+  LaneKernels native;       // --lanes native
+  // --lanes N for each N of schema::kLaneWidths, in that order (lanes 0
+  // where the target cannot hold N floats).
+  std::array<LaneKernels, schema::kLaneWidths.size()> capped;
+};
+
+// Vectors stored per two-pass segment: ray origin and direction, hit
+// position, normal, distance, sphere colour and the hit mask.
+inline constexpr std::size_t kSegmentVectors = 17;
+
+// Floats of two-pass scratch a thread needs for `lanes`-wide packets and
+// `maxDepth` stored segments.
+inline std::size_t scratchFloats(int lanes, int maxDepth) {
+  return kSegmentVectors * static_cast<std::size_t>(lanes) * static_cast<std::size_t>(maxDepth);
+}
+
+// The kernels of the best target the CPU supports (or the one a test forced).
+TargetKernels dispatchedKernels();
+
+// Highway's name of a target bit ("AVX3", "SSE4", ...).
+std::string targetName(std::int64_t target);
+
+// Targets compiled into the kernel that this CPU can run, best first.
+std::vector<std::int64_t> availableTargets();
+
+// For tests: makes dispatch pick `target` while alive, then lifts the mock.
+class ScopedTargetOverride {
+ public:
+  explicit ScopedTargetOverride(std::int64_t target);
+  ~ScopedTargetOverride();
+  ScopedTargetOverride(const ScopedTargetOverride&) = delete;
+  ScopedTargetOverride& operator=(const ScopedTargetOverride&) = delete;
+};
+
+}  // namespace rt::simd

@@ -1,0 +1,81 @@
+#include "core/atomic_file.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace rt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory per test, removed afterwards.
+class AtomicFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("rt-atomic-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                                        "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static std::string read(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }
+  [[nodiscard]] std::size_t entries() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(AtomicFileTest, WritesTheWholeTextAndLeavesNoTemporary) {
+  const fs::path target = dir_ / "run.csv";
+  writeFileAtomically(target, "a,b\n1,2\n");
+  EXPECT_EQ(read(target), "a,b\n1,2\n");
+  EXPECT_EQ(entries(), 1u);
+}
+
+TEST_F(AtomicFileTest, ReplacesAnExistingFile) {
+  const fs::path target = dir_ / "run.csv";
+  writeFileAtomically(target, "old contents that are longer\n");
+  writeFileAtomically(target, "new\n");
+  EXPECT_EQ(read(target), "new\n");
+}
+
+// Destroyed without commit() (an exception on the way): the previous file
+// stays as it was and the temporary is gone.
+TEST_F(AtomicFileTest, UncommittedWriteKeepsThePreviousFile) {
+  const fs::path target = dir_ / "run.csv";
+  writeFileAtomically(target, "previous\n");
+  {
+    AtomicFile file(target);
+    std::ofstream(file.temporaryPath()) << "half-writ";
+    EXPECT_EQ(file.temporaryPath().parent_path(), target.parent_path());
+  }
+  EXPECT_EQ(read(target), "previous\n");
+  EXPECT_EQ(entries(), 1u);
+}
+
+TEST_F(AtomicFileTest, UnwritableTargetThrowsNamingTheFileAndWritesNothing) {
+  const fs::path target = dir_ / "missing-dir" / "run.csv";
+  try {
+    writeFileAtomically(target, "x\n");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(target.string()), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(target));
+  EXPECT_EQ(entries(), 0u);
+}
+
+}  // namespace
+}  // namespace rt

@@ -1,0 +1,80 @@
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "render/scalar/scalar_model.h"
+
+namespace rt::kernel {
+namespace {
+
+Ray<float> rayAlongZ(float z0) { return {{0.0f, 0.0f, z0}, {0.0f, 0.0f, 1.0f}}; }
+Sphere sphereAt(glm::vec3 c, float r) { return {c, r, glm::vec3(1.0f)}; }
+
+TEST(Intersection, FromOutsideHitsTheNearSide) {
+  const std::vector<Sphere> s{sphereAt({0, 0, 5}, 1)};
+  const RaycastHit<float> hit = nearestHit(rayAlongZ(0), std::span<const Sphere>(s));
+  ASSERT_TRUE(hit.hit());
+  EXPECT_FLOAT_EQ(hit.distance, 4.0f);
+  EXPECT_FLOAT_EQ(hit.normal.z, -1.0f);
+}
+
+TEST(Intersection, FromInsideHitsTheFarSide) {
+  const std::vector<Sphere> s{sphereAt({0, 0, 0}, 2)};
+  const RaycastHit<float> hit = nearestHit(rayAlongZ(0), std::span<const Sphere>(s));
+  ASSERT_TRUE(hit.hit());
+  EXPECT_FLOAT_EQ(hit.distance, 2.0f);
+  EXPECT_FLOAT_EQ(hit.normal.z, 1.0f);
+}
+
+TEST(Intersection, TangentRayHitsAtTheTouchingPoint) {
+  const std::vector<Sphere> s{sphereAt({1, 0, 5}, 1)};
+  const RaycastHit<float> hit = nearestHit(rayAlongZ(0), std::span<const Sphere>(s));
+  ASSERT_TRUE(hit.hit());
+  EXPECT_FLOAT_EQ(hit.distance, 5.0f);
+  EXPECT_FLOAT_EQ(hit.normal.x, -1.0f);
+}
+
+TEST(Intersection, JustMissingRayMisses) {
+  const std::vector<Sphere> s{sphereAt({1.001f, 0, 5}, 1)};
+  EXPECT_FALSE(nearestHit(rayAlongZ(0), std::span<const Sphere>(s)).hit());
+}
+
+TEST(Intersection, SphereBehindTheOriginIsNotHit) {
+  const std::vector<Sphere> s{sphereAt({0, 0, -5}, 1)};
+  EXPECT_FALSE(nearestHit(rayAlongZ(0), std::span<const Sphere>(s)).hit());
+  EXPECT_LE(intersectSphere(rayAlongZ(0), s[0]), kEpsilon<float>);
+}
+
+TEST(Intersection, HitCloserThanEpsilonIsSkippedForTheFarSide) {
+  // A reflected ray starts on the surface: the near root is ~0 and must not count.
+  const std::vector<Sphere> s{sphereAt({0, 0, 1}, 1)};
+  const RaycastHit<float> hit = nearestHit(rayAlongZ(0), std::span<const Sphere>(s));
+  ASSERT_TRUE(hit.hit());
+  EXPECT_FLOAT_EQ(hit.distance, 2.0f);
+}
+
+TEST(Intersection, NearestOfSeveralWins) {
+  const std::vector<Sphere> s{sphereAt({0, 0, 10}, 1), sphereAt({0, 0, 4}, 1), sphereAt({0, 0, 7}, 1)};
+  const RaycastHit<float> hit = nearestHit(rayAlongZ(0), std::span<const Sphere>(s));
+  EXPECT_EQ(hit.sphere, 1);
+  EXPECT_FLOAT_EQ(hit.distance, 3.0f);
+}
+
+TEST(Intersection, ExactTieGoesToTheLowerIndex) {
+  Sphere a = sphereAt({0, 0, 5}, 1);
+  Sphere b = a;
+  b.color = glm::vec3(0.5f);
+  const std::vector<Sphere> s{sphereAt({0, 0, 50}, 1), a, b};
+  EXPECT_EQ(nearestHit(rayAlongZ(0), std::span<const Sphere>(s)).sphere, 1);
+}
+
+TEST(Intersection, SmallFarSphereDoesNotCancel) {
+  // The textbook discriminant loses this sphere in float; docs/render-model.md section 3's form keeps it.
+  const std::vector<Sphere> s{sphereAt({0.0f, 0.0009f, 3000.0f}, 0.001f)};
+  const RaycastHit<float> hit = nearestHit(rayAlongZ(0), std::span<const Sphere>(s));
+  ASSERT_TRUE(hit.hit());
+  EXPECT_NEAR(hit.distance, 3000.0f - std::sqrt(0.001f * 0.001f - 0.0009f * 0.0009f), 1e-2f);
+}
+
+}  // namespace
+}  // namespace rt::kernel
