@@ -30,8 +30,24 @@ function(rt_enum_block out enum_name names)
   endforeach()
   set(${out}
 "enum class ${enum_name} : int {\n${enumerators}};\n\
-inline constexpr std::array<std::string_view, ${n}> k${enum_name}Names{\n${strings}};\n\n"
+inline constexpr std::array<std::string_view, ${n}> k${enum_name}Names{\n${strings}};\n\
+constexpr std::string_view nameOf(${enum_name} v) { return k${enum_name}Names[static_cast<std::size_t>(v)]; }\n\n"
     PARENT_SCOPE)
+endfunction()
+
+# A C++ bit mask over `enum_name` of the names in the JSON array at the
+# member path given after it ("0u | (1u << ...)").
+function(rt_bit_mask out json enum_name)
+  string(JSON count LENGTH "${json}" ${ARGN})
+  set(mask "0u")
+  if(count GREATER 0)
+    math(EXPR last "${count} - 1")
+    foreach(j RANGE ${last})
+      string(JSON name GET "${json}" ${ARGN} ${j})
+      string(APPEND mask " | (1u << static_cast<int>(${enum_name}::${name}))")
+    endforeach()
+  endif()
+  set(${out} "${mask}" PARENT_SCOPE)
 endfunction()
 
 # One RendererDefinition initialiser for renderers[i].
@@ -50,15 +66,7 @@ function(rt_renderer_definition out json i)
       string(APPEND pair " ${first}${rest}::${value},")
     endif()
   endforeach()
-  string(JSON nopts LENGTH "${json}" renderers ${i} options)
-  set(mask "0u")
-  if(nopts GREATER 0)
-    math(EXPR olast "${nopts} - 1")
-    foreach(j RANGE ${olast})
-      string(JSON o GET "${json}" renderers ${i} options ${j})
-      string(APPEND mask " | (1u << static_cast<int>(RendererOption::${o}))")
-    endforeach()
-  endif()
+  rt_bit_mask(mask "${json}" RendererOption renderers ${i} options)
   set(${out} "    RendererDefinition{\"${flag}\",${pair} ${mask}},\n" PARENT_SCOPE)
 endfunction()
 
@@ -123,15 +131,7 @@ function(rt_generate_schema_header json_path header_path)
   foreach(i RANGE ${last})
     string(JSON alg GET "${json}" stages ${i} algorithm)
     string(REPLACE "-" "_" alg "${alg}")
-    string(JSON nexits LENGTH "${json}" stages ${i} early_exits)
-    set(mask "0u")
-    if(nexits GREATER 0)
-      math(EXPR elast "${nexits} - 1")
-      foreach(j RANGE ${elast})
-        string(JSON e GET "${json}" stages ${i} early_exits ${j})
-        string(APPEND mask " | (1u << static_cast<int>(EarlyExit::${e}))")
-      endforeach()
-    endif()
+    rt_bit_mask(mask "${json}" EarlyExit stages ${i} early_exits)
     string(APPEND stage_defs "    StageDefinition{Algorithm::${alg}, ${mask}},\n")
   endforeach()
 

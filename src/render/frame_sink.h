@@ -12,9 +12,6 @@ namespace rt {
 class FrameSink {
  public:
   virtual ~FrameSink() = default;
-  FrameSink() = default;
-  FrameSink(const FrameSink&) = delete;
-  FrameSink& operator=(const FrameSink&) = delete;
 
   // Before the frame loop (outside the timed phases): sizes the destination
   // for frames of `extent`; a later call with another extent resizes it.

@@ -67,24 +67,7 @@ constexpr RendererKind rendererFor(Kernel kernel, Scheduler scheduler) {
   throw std::logic_error("no renderer in the schema pairs this kernel with this scheduler");
 }
 
-template <typename Enum>
-constexpr std::string_view nameOf(Enum value);
-template <>
-constexpr std::string_view nameOf(RendererKind v) { return schema::kRendererKindNames[static_cast<int>(v)]; }
-template <>
-constexpr std::string_view nameOf(Algorithm v) { return schema::kAlgorithmNames[static_cast<int>(v)]; }
-template <>
-constexpr std::string_view nameOf(EarlyExit v) { return schema::kEarlyExitNames[static_cast<int>(v)]; }
-template <>
-constexpr std::string_view nameOf(Stage v) { return schema::kStageNames[static_cast<int>(v)]; }
-template <>
-constexpr std::string_view nameOf(PresentMode v) { return schema::kPresentModeNames[static_cast<int>(v)]; }
-template <>
-constexpr std::string_view nameOf(Kernel v) { return schema::kKernelNames[static_cast<int>(v)]; }
-template <>
-constexpr std::string_view nameOf(Scheduler v) { return schema::kSchedulerNames[static_cast<int>(v)]; }
-template <>
-constexpr std::string_view nameOf(RendererOption v) { return schema::kRendererOptionNames[static_cast<int>(v)]; }
-constexpr std::string_view nameOf(Partition v) { return schema::kPartitionNames[static_cast<int>(v)]; }
+// nameOf(enum value): the schema name, generated with each enum.
+using schema::nameOf;
 
 }  // namespace rt

@@ -25,14 +25,83 @@
 
 #include "model_constants.h"
 #include "render/simd/packet_kernels.h"
-#include "render/simd/packet_types-inl.h"
-#include "render/simd/sphere_query-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace rt::simd::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+template <class D>
+using VecF = hn::Vec<D>;
+template <class D>
+using MaskF = hn::Mask<D>;
+
+constexpr float kEpsilon = static_cast<float>(RT_HIT_EPSILON);
+
+// ---- Packet types (the thesis' Vec3_x4, Ray_x4, RaycastHit_x4) ----------
+
+template <class D>
+struct Vec3x {
+  VecF<D> x, y, z;
+};
+
+template <class D>
+struct RayX {
+  Vec3x<D> origin;
+  Vec3x<D> direction;  // unit in every lane
+};
+
+template <class D>
+struct HitX {
+  MaskF<D> hit;  // lanes that hit a sphere; the other lanes hold junk
+  Vec3x<D> position;
+  Vec3x<D> normal;
+  VecF<D> distance;
+  Vec3x<D> sphereColor;
+};
+
+// ---- Vec3x arithmetic: the same evaluation order as glm's ---------------
+
+template <class D>
+HWY_INLINE Vec3x<D> Broadcast(D d, const Float3& v) {
+  return {hn::Set(d, v[0]), hn::Set(d, v[1]), hn::Set(d, v[2])};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator+(const Vec3x<D>& a, const Vec3x<D>& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator-(const Vec3x<D>& a, const Vec3x<D>& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator*(const Vec3x<D>& a, const Vec3x<D>& b) {
+  return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator*(VecF<D> s, const Vec3x<D>& v) {
+  return {s * v.x, s * v.y, s * v.z};
+}
+template <class D>
+HWY_INLINE Vec3x<D> operator/(const Vec3x<D>& v, VecF<D> s) {
+  return {v.x / s, v.y / s, v.z / s};
+}
+template <class D>
+HWY_INLINE VecF<D> Dot(const Vec3x<D>& a, const Vec3x<D>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+// glm::normalize: v * (1 / sqrt(dot(v, v))).
+template <class D>
+HWY_INLINE Vec3x<D> Normalize(D d, const Vec3x<D>& v) {
+  return (hn::Set(d, 1.0f) / hn::Sqrt(Dot(v, v))) * v;
+}
+template <class D>
+HWY_INLINE Vec3x<D> Select(MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) {
+  return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z)};
+}
+
 // ---- Intersection (docs/render-model.md section 3) ----------------------
+
+#include "render/simd/sphere_query-inl.h"  // NearestSphere()
 
 template <class D>
 HWY_INLINE Vec3x<D> Gather3(D d, const float* x, const float* y, const float* z, hn::Vec<hn::RebindToSigned<D>> i) {

@@ -2,25 +2,10 @@
 // ray hits (docs/render-model.md section 3). Brute force: every packet is
 // tested against every sphere. This is the one place the packet kernels ask
 // the scene which sphere a ray meets; an acceleration structure replaces
-// the loop in NearestSphere(). Compiled once per target.
-#if defined(RT_RENDER_SIMD_SPHERE_QUERY_INL_H_) == defined(HWY_TARGET_TOGGLE)
-#ifdef RT_RENDER_SIMD_SPHERE_QUERY_INL_H_
-#undef RT_RENDER_SIMD_SPHERE_QUERY_INL_H_
-#else
-#define RT_RENDER_SIMD_SPHERE_QUERY_INL_H_
-#endif
-
-#include <hwy/highway.h>
-
-#include <limits>
-
-#include "model_constants.h"
-#include "render/simd/packet_kernels.h"
-#include "render/simd/packet_types-inl.h"
-
-HWY_BEFORE_NAMESPACE();
-namespace rt::simd::HWY_NAMESPACE {
-namespace hn = hwy::HWY_NAMESPACE;
+// the loop in NearestSphere().
+//
+// A fragment, not a header: packet_kernel-inl.h includes it inside its
+// per-target namespace, after the packet types, once per Highway target.
 
 // Nearest sphere per lane over all spheres, lower index on a tie. Lanes
 // outside `active` (past the row's end, or already missed) report no hit.
@@ -60,8 +45,3 @@ HWY_INLINE void NearestSphere(D d, const SphereArrays& s, const RayX<D>& ray, Ma
     bestIndex = hn::IfThenElse(closer, hn::Set(d, static_cast<float>(i)), bestIndex);
   }
 }
-
-}  // namespace rt::simd::HWY_NAMESPACE
-HWY_AFTER_NAMESPACE();
-
-#endif  // per-target include guard
