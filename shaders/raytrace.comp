@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The render model of docs/render-model.md (sections 2-5 and 7) as a compute
-// shader, one invocation per pixel. It mirrors src/render/scalar_kernel.h
+// shader, one invocation per pixel. It mirrors src/render/scalar/scalar_model.h
 // function by function, in the same operation order, so that the GPU image
 // agrees with the sequential renderer (docs/render-model.md section 8). Change both together.
 
