@@ -114,19 +114,6 @@ void requireExistingDirectory(const std::filesystem::path& file, const std::stri
   }
 }
 
-}  // namespace
-
-std::string versionText() {
-  const BuildInfo& b = buildInfo();
-  std::ostringstream out;
-  out << "raytracer " << b.version << " (commit " << b.gitCommit << (b.gitDirty ? ", dirty" : "") << ", "
-      << b.buildType << ", " << b.compiler << ")\n"
-      << "Tracy client: " << (b.tracyClient.empty() ? "not built in" : b.tracyClient) << "\n";
-  return out.str();
-}
-
-namespace {
-
 void addRendererChoice(CLI::App& app, RawOptions& raw) {
   for (std::size_t i = 0; i < raw.rendererFlags.size(); ++i) {
     app.add_flag(std::string(schema::kRendererDefinitions[i].flag), raw.rendererFlags[i],
@@ -276,6 +263,15 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     return CliExit{kExitBadInput, "", app.help() + "\nraytracer: " + e.what() + "\n"};
   }
   return config;
+}
+
+std::string versionText() {
+  const BuildInfo& b = buildInfo();
+  std::ostringstream out;
+  out << "raytracer " << b.version << " (commit " << b.gitCommit << (b.gitDirty ? ", dirty" : "") << ", "
+      << b.buildType << ", " << b.compiler << ")\n"
+      << "Tracy client: " << (b.tracyClient.empty() ? "not built in" : b.tracyClient) << "\n";
+  return out.str();
 }
 
 }  // namespace rt
