@@ -18,7 +18,7 @@
 
 namespace rt {
 namespace {
-// Spec section 8: the agreement thresholds between two renderers.
+// docs/render-model.md section 8: the agreement thresholds between two renderers.
 constexpr int kChannelTolerance = 2;
 constexpr double kMinFractionWithinTolerance = 0.995;
 constexpr double kMinPsnrDb = 40.0;

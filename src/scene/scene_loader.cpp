@@ -178,7 +178,7 @@ RenderParams readRender(ObjectReader r) {
     if (d < 1 || d > kMaxDepthLimit) r.fail(r.pathOf("maxDepth"), "maxDepth must lie in [1, 64]");
     p.maxDepth = static_cast<int>(d);
   }
-  // Ranges beyond the spec's list (chosen): a reflectivity or specular
+  // Ranges beyond the render model's list (chosen): a reflectivity or specular
   // strength outside [0, 1] or a negative exponent is a typo, never a look.
   p.reflectivity = numberInRange(r, "reflectivity", p.reflectivity, 0.0, 1.0);
   p.shininess = numberInRange(r, "shininess", p.shininess, 0.0, 1e6);

@@ -125,7 +125,7 @@ inline Vec3<Real> traceTwoPass(const ShadingInputs<Real>& in, Ray<Real> ray,
   return acc;
 }
 
-// Spec section 7: clamp to [0, 1], round(255 c), opaque, no gamma.
+// docs/render-model.md section 7: clamp to [0, 1], round(255 c), opaque, no gamma.
 template <typename Real>
 inline Rgba8 toRgba8(const Vec3<Real>& c) {
   const auto channel = [](Real v) {

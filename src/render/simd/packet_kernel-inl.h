@@ -295,7 +295,7 @@ HWY_INLINE RayX<D> PrimaryRays(D d, const FrameParams& f, int x, float v) {
   return {Broadcast(d, f.cameraPosition), Normalize(d, dir)};
 }
 
-// Spec section 7: clamp, round(255 c), opaque; only the first n lanes land.
+// docs/render-model.md section 7: clamp, round(255 c), opaque; only the first n lanes land.
 template <class D>
 HWY_INLINE void WritePixels(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
   const hn::RebindToSigned<D> di;
