@@ -1,5 +1,5 @@
 """The names rtbench relies on, each taken from or checked against
-schema/rt_schema.json (the one source of truth, read through rtschema).
+schema/rt_schema.json (the one source of truth, read through rtbench.schema).
 
 Code elsewhere in rtbench imports these constants instead of spelling
 column, metadata or stage names itself, so a rename in the schema fails here,
@@ -8,25 +8,21 @@ at import, instead of silently producing empty tables.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
+from rtbench import schema
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-import rtschema  # noqa: E402  (lives in scripts/, beside this package)
-
-REPO_ROOT = rtschema.REPO_ROOT
+REPO_ROOT = schema.REPO_ROOT
 
 
 def _column(name: str) -> str:
     """A frame-CSV column the library needs; fails if the schema lacks it."""
-    if name not in rtschema.frame_csv_columns():
+    if name not in schema.frame_csv_columns():
         raise ImportError(f"rtbench needs CSV column {name!r}, which schema/rt_schema.json does not define")
     return name
 
 
 def _meta_key(name: str) -> str:
     """A metadata key the library needs; fails if the schema lacks it."""
-    if name not in rtschema.run_metadata_keys():
+    if name not in schema.run_metadata_keys():
         raise ImportError(f"rtbench needs metadata key {name!r}, which schema/rt_schema.json does not define")
     return name
 
@@ -40,6 +36,7 @@ LANES = _column("lanes")
 SIMD_TARGET = _column("simd_target")
 GRAIN = _column("grain")
 PARTITION = _column("partition")
+DEVICE = _column("device")
 ALGORITHM = _column("algorithm")
 EARLY_EXIT = _column("early_exit")
 WIDTH = _column("width")
@@ -60,7 +57,6 @@ META_RUN_ID = _meta_key("run_id")
 STAGE = "stage"
 REPETITION = "repetition"
 CONFIG_ID = "config_id"
-DEVICE = "device"
 BUILD_TYPE = "build_type"
 CPU_MODEL = "cpu_model"
 LOGICAL_CORES = "logical_cores"
@@ -78,14 +74,24 @@ GPU_LANES = 0
 EARLY_EXIT_SEPARATOR = "+"
 NO_EARLY_EXIT = "none"
 
-RENDERERS: list[str] = rtschema.renderer_names()
-RENDERER_FLAGS: dict[str, str] = rtschema.renderer_flags()
-STAGES: dict[str, dict] = rtschema.stages()
-ALGORITHMS: list[str] = list(rtschema.schema()["algorithms"])
-EARLY_EXITS: list[str] = list(rtschema.schema()["early_exits"])
-CSV_COLUMNS: list[str] = rtschema.frame_csv_columns()
-COLUMN_TYPES: dict[str, str] = {c["name"]: c["type"] for c in rtschema.schema()["frame_csv"]}
-SCHEMA_VERSION: int = rtschema.schema()["version"]
+RENDERERS: list[str] = schema.renderer_names()
+RENDERER_FLAGS: dict[str, str] = schema.renderer_flags()
+# Renderer options (threads, lanes, grain, partition) -> flag, and which
+# renderer accepts which: a renderer takes only the options the schema lists.
+OPTION_FLAGS: dict[str, str] = schema.renderer_options()
+RENDERER_OPTIONS: dict[str, list[str]] = {r: schema.accepted_options(r) for r in RENDERERS}
+LANE_WIDTHS: list[int] = schema.lane_widths()
+PARTITIONS: list[str] = list(schema.schema()["partitions"])
+PRESENT_MODES: list[str] = schema.present_modes()
+# The schema's renderers[].backend of the renderers that run on the CPU; the
+# others render on a Vulkan device.
+CPU_BACKEND = "cpu"
+STAGES: dict[str, dict] = schema.stages()
+ALGORITHMS: list[str] = list(schema.schema()["algorithms"])
+EARLY_EXITS: list[str] = list(schema.schema()["early_exits"])
+CSV_COLUMNS: list[str] = schema.frame_csv_columns()
+COLUMN_TYPES: dict[str, str] = {c["name"]: c["type"] for c in schema.schema()["frame_csv"]}
+SCHEMA_VERSION: int = schema.schema()["version"]
 
 
 def reference_renderer() -> str:
@@ -98,6 +104,16 @@ def parse_early_exits(text: str) -> frozenset[str]:
     if text in ("", NO_EARLY_EXIT):
         return frozenset()
     return frozenset(text.split(EARLY_EXIT_SEPARATOR))
+
+
+def accepts(renderer: str, option: str) -> bool:
+    """Whether `renderer` takes the renderer option `option` (schema: renderers[].options)."""
+    return option in RENDERER_OPTIONS.get(renderer, [])
+
+
+def renders_on_cpu(renderer: str) -> bool:
+    """True for the CPU renderers; False for those that render on a Vulkan device."""
+    return schema.renderers()[renderer]["backend"] == CPU_BACKEND
 
 
 def stage_of(algorithm: str, early_exit: str) -> str:

@@ -6,7 +6,7 @@ import json
 import subprocess
 
 import pytest
-import rtschema
+from rtbench import schema
 
 SMALL = ["--width", "24", "--height", "16", "--warmup", "2", "--frames", "3", "--quiet"]
 
@@ -21,7 +21,7 @@ def test_csv_and_metadata_follow_the_schema(raytracer, repo_root, tmp_path):
     assert done.returncode == 0, done.stderr
     with csv_path.open(newline="") as f:
         rows = list(csv.DictReader(f))
-    assert list(rows[0].keys()) == rtschema.frame_csv_columns()
+    assert list(rows[0].keys()) == schema.frame_csv_columns()
     assert [int(r["frame"]) for r in rows] == [0, 1, 2, 3, 4]
     assert [r["warmup"] for r in rows] == ["1", "1", "0", "0", "0"]
     assert {r["renderer"] for r in rows} == {"sequential"}
@@ -30,9 +30,9 @@ def test_csv_and_metadata_follow_the_schema(raytracer, repo_root, tmp_path):
     assert all(r["gpu_ms"] == "" for r in rows)
 
     meta = json.loads((tmp_path / "run.meta.json").read_text())
-    assert set(meta) == set(rtschema.run_metadata_keys())
+    assert set(meta) == set(schema.run_metadata_keys())
     assert meta["run_id"] == rows[0]["run_id"]
-    assert meta["schema_version"] == rtschema.schema()["version"]
+    assert meta["schema_version"] == schema.schema()["version"]
     assert meta["scene"]["spheres"] == 20
     assert meta["scene"]["sha256"] == hashlib.sha256((repo_root / "scenes/random20.json").read_bytes()).hexdigest()
     assert meta["config"]["measured_frames"] == 3 and meta["config"]["warmup_frames"] == 2
@@ -93,9 +93,9 @@ def test_missing_scene_file_exits_2(raytracer, tmp_path):
     assert "nope.json" in done.stderr
 
 
-@pytest.mark.parametrize("name", rtschema.renderer_names())
+@pytest.mark.parametrize("name", schema.renderer_names())
 def test_every_schema_renderer_runs_under_its_flag(raytracer, repo_root, name, tmp_path):
-    flag = rtschema.renderer_flags()[name]
+    flag = schema.renderer_flags()[name]
     csv_path = tmp_path / "x.csv"
     done = run(raytracer, flag, repo_root / "scenes/default.json", *SMALL, "--csv", csv_path)
     assert done.returncode == 0, done.stderr

@@ -3,7 +3,7 @@ with schema/rt_schema.json, the one definition the binary writes from."""
 
 import re
 
-import rtschema
+from rtbench import schema
 
 
 def _section(text: str, heading: str) -> str:
@@ -19,10 +19,10 @@ def test_readme_csv_table_lists_exactly_the_schema_columns(repo_root):
         if line.startswith("| `"):
             first_cell = line.split("|")[1]
             documented += re.findall(r"`([a-z_]+)`", first_cell)
-    assert documented == rtschema.frame_csv_columns()
+    assert documented == schema.frame_csv_columns()
 
 
 def test_readme_names_every_metadata_key(repo_root):
     section = _section((repo_root / "README.md").read_text(encoding="utf-8"), "## Run metadata")
-    missing = [k for k in rtschema.run_metadata_keys() if f"`{k}`" not in section]
+    missing = [k for k in schema.run_metadata_keys() if f"`{k}`" not in section]
     assert missing == []
