@@ -1,7 +1,16 @@
-# Sourced by the scripts: the Python that has the project's packages.
+# Sourced by the bash scripts: the Python that has the project's packages.
 # On Debian that is the system interpreter (apt installs pandas & co. for
 # it), even when another python3 comes first on PATH.
 if [ -z "${RT_PYTHON:-}" ]; then
   if [ -x /usr/bin/python3 ]; then RT_PYTHON=/usr/bin/python3; else RT_PYTHON=python3; fi
 fi
 export RT_PYTHON
+
+# rtbench COMMAND [ARGS]: replaces the calling script with the Python
+# package's command (`python3 -m rtbench COMMAND`, scripts/rtbench) run by
+# that Python.
+rtbench() {
+  local scripts
+  scripts="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  PYTHONPATH="$scripts${PYTHONPATH:+:$PYTHONPATH}" exec "$RT_PYTHON" -m rtbench "$@"
+}

@@ -1,18 +1,24 @@
-"""rtbench: the benchmark kit's Python library.
+"""rtbench: the benchmark kit's Python package, with one way in:
 
-Small modules of pure functions under thin command lines (`scripts/bench`,
-`scripts/report.py`):
+    python3 -m rtbench bench|report|gen-scene [ARGS]   (scripts/ on PYTHONPATH)
 
-- names:    the names the library relies on, all taken from schema/rt_schema.json
-- atomic:   temp-file + rename writers (nothing is ever half-written)
-- profiles: declarative run matrices (profiles/*.toml) -> configurations
-- noise:    machine-noise checks (CPU governor, load, spread between repetitions)
-- runner:   builds the binary, runs each configuration as its own process
-- load:     run directories -> one tidy pandas DataFrame, with clear errors
-- stats:    median, MAD, bootstrap CI, percentiles, modified z-score outliers
-- metrics:  speedup, Karp-Flatt, processor counts
-- thesis:   the thesis' published numbers and what they recompute to
-- tables:   Markdown and LaTeX tables
-- plots:    matplotlib (Agg) figures, PNG and SVG
-- report:   puts it together into report/README.md
+which the commands of scripts/ wrap: `scripts/bench`, `scripts/report.py`,
+`scripts/gen_scene.py` (see rtbench.cli). Small modules of pure functions:
+
+- cli:           the command dispatcher (`python3 -m rtbench`)
+- schema:        reads schema/rt_schema.json, the one source of truth of names
+- names:         the names the package relies on, all taken from the schema
+- atomic:        temp-file + rename writers (nothing is ever half-written)
+- scenes:        the seeded scene generator (gen-scene)
+- profiles:      declarative run matrices (profiles/*.toml) -> configurations
+- noise:         machine-noise checks (CPU governor, load, spread between repetitions)
+- runner:        builds the binary, runs each configuration as its own process
+- bench:         the bench command: profile -> runs -> report
+- load:          run directories -> one tidy pandas DataFrame, with clear errors
+- stats:         median, MAD, bootstrap CI, percentiles, modified z-score outliers
+- metrics:       speedup, Karp-Flatt, processor counts
+- thesis:        the thesis' published numbers and what they recompute to
+- tables:        Markdown and LaTeX tables
+- plots:         matplotlib (Agg) figures, PNG and SVG
+- report_writer: the report command: puts it together into report/README.md
 """

@@ -43,8 +43,8 @@ def binary_from_environment(preset: str) -> Path | None:
     return Path(value) if value else None
 
 
-def parse_args(argv: list[str] | None) -> argparse.Namespace:
-    p = argparse.ArgumentParser(prog="bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespace:
+    p = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or files (default: the profile's scenes)")
     p.add_argument("-p", "--profile", default="paper", help="profile name (profiles/NAME.toml) or file; default paper")
     p.add_argument("--binary", type=Path,
@@ -169,13 +169,15 @@ def spread_warnings(run_dir: Path) -> list[str]:
 
 
 def run_report(run_dir: Path, report_dir: Path) -> int:
-    """Calls scripts/report.py with this interpreter, as a person would."""
-    return subprocess.run([sys.executable, str(REPORT_SCRIPT), str(run_dir), "-o", str(report_dir)]).returncode
+    """Runs the report command (scripts/report.py) as its own process, under this interpreter."""
+    env = {**os.environ, "RT_PYTHON": sys.executable}
+    return subprocess.run([str(REPORT_SCRIPT), str(run_dir), "-o", str(report_dir)], env=env).returncode
 
 
-def main(argv: list[str] | None = None) -> int:
-    args = parse_args(argv)
-    args.command_line = ["bench", *(sys.argv[1:] if argv is None else argv)]
+def main(argv: list[str] | None = None, prog: str = "bench") -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = parse_args(argv, prog)
+    args.command_line = [prog, *argv]
     try:
         profile, configs, order = plan(args)
     except ProfileError as e:
@@ -264,10 +266,3 @@ def finish(args, manifest: runner.Manifest, run_dir: Path, completed: bool) -> i
             return 1
     return 1 if counts.get(runner.FAILED) or not counts.get(runner.OK) else 0
 
-
-if __name__ == "__main__":
-    try:
-        sys.exit(main())
-    except BrokenPipeError:  # e.g. `scripts/bench --dry-run | head`
-        sys.stderr.close()
-        sys.exit(0)

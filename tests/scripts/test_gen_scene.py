@@ -2,8 +2,8 @@ import json
 import subprocess
 import sys
 
-import gen_scene
 import pytest
+from rtbench import scenes
 
 
 def test_regenerated_scenes_are_byte_identical(repo_root, tmp_path):
@@ -18,21 +18,21 @@ def test_regenerated_scenes_are_byte_identical(repo_root, tmp_path):
 
 
 def test_scene_sizes_match_their_names():
-    assert len(gen_scene.RECIPES["default"]()["spheres"]) == 3
-    assert len(gen_scene.RECIPES["random20"]()["spheres"]) == 20
-    assert len(gen_scene.RECIPES["random100"]()["spheres"]) == 100
+    assert len(scenes.RECIPES["default"]()["spheres"]) == 3
+    assert len(scenes.RECIPES["random20"]()["spheres"]) == 20
+    assert len(scenes.RECIPES["random100"]()["spheres"]) == 100
 
 
 def test_seed_decides_the_scene():
-    a = gen_scene.to_json(gen_scene.random_scene(10, seed=1))
-    b = gen_scene.to_json(gen_scene.random_scene(10, seed=1))
-    c = gen_scene.to_json(gen_scene.random_scene(10, seed=2))
+    a = scenes.to_json(scenes.random_scene(10, seed=1))
+    b = scenes.to_json(scenes.random_scene(10, seed=1))
+    c = scenes.to_json(scenes.random_scene(10, seed=2))
     assert a == b
     assert a != c
 
 
 def test_spheres_stay_inside_the_camera_orbit():
-    scene = gen_scene.random_scene(300, seed=5)
+    scene = scenes.random_scene(300, seed=5)
     cam = scene["camera"]["position"]
     orbit_radius = (cam[0] ** 2 + cam[2] ** 2) ** 0.5
     for s in scene["spheres"]:
@@ -41,9 +41,9 @@ def test_spheres_stay_inside_the_camera_orbit():
         assert all(0.0 <= c <= 1.0 for c in s["color"])
 
 
-def test_generated_scene_renders(raytracer, tmp_path):
+def test_generated_scene_renders(raytracer, repo_root, tmp_path):
     subprocess.run(
-        [sys.executable, gen_scene.__file__, "--random", "7", "--seed", "3", "-o", tmp_path], check=True, capture_output=True
+        [sys.executable, repo_root / "scripts/gen_scene.py", "--random", "7", "--seed", "3", "-o", tmp_path], check=True, capture_output=True
     )
     scene = tmp_path / "random7-seed3.json"
     assert len(json.loads(scene.read_text())["spheres"]) == 7

@@ -1,21 +1,27 @@
 """report.py regenerates a full report from the committed fixture run (the
 thesis' own published times dressed as a run), with known answers."""
 
+import os
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
-from rtbench import report, tables
+from rtbench import report_writer, tables
 
 FIXTURE = Path(__file__).parent / "fixtures" / "thesis-run"
+
+
+def report_command(repo_root, *args):
+    """scripts/report.py as a person runs it, under the Python running the tests."""
+    return subprocess.run([repo_root / "scripts/report.py", *args], capture_output=True, text=True,
+                          env={**os.environ, "RT_PYTHON": sys.executable})
 
 
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory, repo_root):
     out = tmp_path_factory.mktemp("report")
-    done = subprocess.run([sys.executable, repo_root / "scripts/report.py", FIXTURE, "-o", out],
-                          capture_output=True, text=True)
+    done = report_command(repo_root, FIXTURE, "-o", out)
     assert done.returncode == 0, done.stderr
     return out
 
@@ -89,19 +95,19 @@ def test_latex_and_figures_are_written(generated):
 
 
 def test_regeneration_is_identical_and_removes_stale_files(generated, tmp_path):
-    inputs = report.gather([FIXTURE])
-    results = report.compute(inputs)
+    inputs = report_writer.gather([FIXTURE])
+    results = report_writer.compute(inputs)
     (tmp_path / "plots").mkdir()
     (tmp_path / "plots/old.png").write_bytes(b"stale")
-    report.write(inputs, results, tmp_path)
+    report_writer.write(inputs, results, tmp_path)
     assert not (tmp_path / "plots/old.png").exists()
     for rel in ("README.md", "tables/metrics.md", "tables/summary.tex", "data/summary.csv", "plots/render_ms.svg"):
         assert (tmp_path / rel).read_bytes() == (generated / rel).read_bytes(), rel
 
 
 def test_gpu_processor_override(tmp_path):
-    inputs = report.gather([FIXTURE], gpu_override=2048)
-    met = report.compute(inputs).metrics
+    inputs = report_writer.gather([FIXTURE], gpu_override=2048)
+    met = report_writer.compute(inputs).metrics
     assert set(met[met["lanes"] == 0]["p"]) == {2048.0}
 
 
@@ -109,8 +115,7 @@ def test_report_cli_errors_name_the_file(tmp_path, repo_root):
     broken = tmp_path / "run"
     broken.mkdir()
     (broken / "x.csv").write_text("run_id,scene\n1,2\n")
-    done = subprocess.run([sys.executable, repo_root / "scripts/report.py", broken, "-o", tmp_path / "out"],
-                          capture_output=True, text=True)
+    done = report_command(repo_root, broken, "-o", tmp_path / "out")
     assert done.returncode == 1
     assert f"report.py: {broken / 'x.csv'}: header does not match" in done.stderr
     assert not (tmp_path / "out").exists()

@@ -110,14 +110,17 @@ def test_no_finished_runs_is_an_error(tmp_path):
         load.load_runs([tmp_path / "missing"])
 
 
-def test_fixture_is_what_its_generator_writes(tmp_path):
+def test_fixture_is_what_its_generator_writes(tmp_path, repo_root):
     """The committed fixture follows the schema of today: regenerate it with
     make_thesis_run.py after a schema change."""
+    import os
     import subprocess
     import sys
 
     out = tmp_path / "regenerated"
-    subprocess.run([sys.executable, FIXTURE.parent / "make_thesis_run.py", "-o", out], check=True, capture_output=True)
+    env = {**os.environ, "PYTHONPATH": str(repo_root / "scripts")}
+    subprocess.run([sys.executable, FIXTURE.parent / "make_thesis_run.py", "-o", out], check=True, capture_output=True,
+                   env=env)
     committed = sorted(p.relative_to(FIXTURE) for p in FIXTURE.rglob("*") if p.is_file())
     assert committed == sorted(p.relative_to(out) for p in out.rglob("*") if p.is_file())
     for rel in committed:

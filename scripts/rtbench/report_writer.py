@@ -1,4 +1,15 @@
-"""Puts a report together: run directories in, report/ out.
+"""Turns benchmark runs into a report: the thesis' tables 1-4 for our run,
+the thesis' published numbers beside ours, speedup and Karp-Flatt, figures,
+and a README that a person reads first.
+
+    scripts/report.py runs/20250101T120000Z-paper -o report/
+
+Several run directories are pooled (the same configuration in two runs
+counts as more repetitions). Warm-up frames are excluded; outliers are
+flagged, never dropped. A truncated or corrupted CSV stops the report with an
+error naming the file.
+
+What it writes:
 
     report/README.md          what a person reads first (generated)
     report/tables/*.md|.tex   tables 1-4 of the thesis for our run, the thesis
@@ -12,7 +23,9 @@ regenerating a report from the same runs gives the same files.
 
 from __future__ import annotations
 
+import argparse
 import math
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -111,6 +124,34 @@ def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
         warnings.append(f"{outliers} frame(s) flagged as outliers (|modified z| > {stats.OUTLIER_LIMIT}); kept in "
                         f"every statistic, listed in {DATA_DIR}/outliers.csv")
     return list(dict.fromkeys(warnings))
+
+
+# --- the command (scripts/report.py, python3 -m rtbench report) ---------------------
+
+def main(argv: list[str] | None = None, prog: str | None = None) -> int:
+    parser = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directory written by scripts/bench")
+    parser.add_argument("-o", "--output", type=Path, default=Path("report"), help="report directory (default: report/)")
+    parser.add_argument("--gpu-p", type=float, metavar="N",
+                        help="processor count of the GPU for Karp-Flatt (default: per-device estimate, "
+                             "data/gpu_processors.toml)")
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+    args = parser.parse_args(argv)
+    if args.gpu_p is not None and args.gpu_p <= 1:
+        parser.error("--gpu-p must be greater than 1")
+
+    try:
+        inputs = gather(args.run_dirs, args.gpu_p)
+        results = compute(inputs)
+        written = write(inputs, results, args.output)
+    except (load.RunDataError, thesis.ThesisDataError) as e:
+        print(f"{parser.prog}: {e}", file=sys.stderr)
+        return 1
+    if not args.quiet:
+        print(f"report: {args.output / 'README.md'} ({len(written)} files, {len(results.summary)} configurations)")
+        for w in results.warnings:
+            print(f"warning: {w}", file=sys.stderr)
+    return 0
 
 
 # --- writing ---------------------------------------------------------------------

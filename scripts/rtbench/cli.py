@@ -1,0 +1,78 @@
+"""The one way in: `python3 -m rtbench COMMAND [ARGS]` (with scripts/ on
+PYTHONPATH), which the commands of scripts/ wrap:
+
+    python3 -m rtbench bench [ARGS]        scripts/bench        run a benchmark profile, then report on it
+    python3 -m rtbench report RUN_DIR...   scripts/report.py    the report of finished runs
+    python3 -m rtbench gen-scene NAME...   scripts/gen_scene.py the committed scenes, or a random one
+
+`python3 -m rtbench COMMAND --help` lists a command's options. A command's
+module is imported only when it runs: gen-scene needs the standard library
+alone, bench and report need pandas, matplotlib and rich.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Command:
+    module: str  # has main(argv, prog) -> exit status
+    prog: str  # the name its usage and messages give: that of its wrapper in scripts/
+    summary: str
+
+
+COMMANDS = {
+    "bench": Command("rtbench.bench", "bench", "run a benchmark profile, then report on it (scripts/bench)"),
+    "report": Command("rtbench.report_writer", "report.py", "the report of finished runs (scripts/report.py)"),
+    "gen-scene": Command("rtbench.scenes", "gen_scene.py", "write the committed scenes, or a random one "
+                                                           "(scripts/gen_scene.py)"),
+}
+
+
+def usage() -> str:
+    lines = ["usage: python3 -m rtbench {" + ",".join(COMMANDS) + "} [ARGS]", ""]
+    lines += [f"  {name:<10} {c.summary}" for name, c in COMMANDS.items()]
+    return "\n".join(lines)
+
+
+def missing_module(prog: str, error: ModuleNotFoundError) -> str:
+    """What to do when this interpreter lacks a package the command needs.
+    The commands of scripts/ pick the interpreter (scripts/lib/python.sh);
+    `python3 -m rtbench` runs under whichever Python started it."""
+    return (f"{prog}: this Python ({sys.executable}) has no module {error.name!r}. Run the command through "
+            "scripts/ (scripts/bench, scripts/report.py), which runs $RT_PYTHON, else Debian's /usr/bin/python3 "
+            "(scripts/setup-debian installs pandas, matplotlib and rich for it), or start it with such a Python: "
+            "PYTHONPATH=scripts /usr/bin/python3 -m rtbench ...")
+
+
+def run(name: str, argv: list[str]) -> int:
+    """Runs one command with its arguments; its exit status."""
+    command = COMMANDS[name]
+    try:
+        module = importlib.import_module(command.module)
+    except ModuleNotFoundError as e:
+        if (e.name or "").split(".")[0] == __package__:
+            raise
+        print(missing_module(command.prog, e), file=sys.stderr)
+        return 1
+    try:
+        return module.main(argv, prog=command.prog)
+    except BrokenPipeError:  # e.g. `scripts/bench --dry-run | head`
+        sys.stderr.close()
+        return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] in (["-h"], ["--help"]):
+        print(f"{usage()}\n\n{__doc__}")
+        return 0
+    if not argv or argv[0] not in COMMANDS:
+        print(usage(), file=sys.stderr)
+        if argv:
+            print(f"rtbench: unknown command {argv[0]!r}", file=sys.stderr)
+        return 2
+    return run(argv[0], argv[1:])
