@@ -62,7 +62,7 @@ using RendererOptionSlots = std::array<CLI::Option*, schema::kRendererOptionName
 struct RawOptions {
   std::array<bool, schema::kRendererKindNames.size()> rendererFlags{};
   std::string scene;
-  std::string algorithm, earlyExit, stage;
+  std::string algorithm, earlyExit, stage, accel;
   std::string lanes = "native";
   std::string partition;
   std::string csv, meta, present;
@@ -135,6 +135,8 @@ void addModelOptions(CLI::App& app, RawOptions& raw) {
                         ->check(CLI::IsMember(namesOf(schema::kAlgorithmNames)));
   auto* exits = app.add_option("--early-exit", raw.earlyExit,
                                "none|all|comma list of " + joinNames(schema::kEarlyExitNames, ","));
+  app.add_option("--accel", raw.accel, "how a ray finds its nearest sphere: none (brute force, default)|bvh")
+      ->check(CLI::IsMember(namesOf(schema::kAccelNames)));
   app.add_option("--stage", raw.stage, "the thesis' stages: original|single-pass|optimized (default)")
       ->check(CLI::IsMember(namesOf(schema::kStageNames)))
       ->excludes(algorithm)
@@ -208,6 +210,7 @@ void applyModelOptions(const RawOptions& raw, RunConfig& config) {
   if (!raw.stage.empty()) config.options = optionsForStage(*enumByName<Stage>(schema::kStageNames, raw.stage));
   if (!raw.algorithm.empty()) config.options.algorithm = *enumByName<Algorithm>(schema::kAlgorithmNames, raw.algorithm);
   if (!raw.earlyExit.empty()) config.options.earlyExits = parseEarlyExits(raw.earlyExit);
+  if (!raw.accel.empty()) config.options.accel = *enumByName<Accel>(schema::kAccelNames, raw.accel);
   if (!raw.present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, raw.present);
 }
 

@@ -7,6 +7,7 @@
 
 namespace rt {
 
+using schema::Accel;
 using schema::Algorithm;
 using schema::EarlyExit;
 using schema::Kernel;
@@ -39,6 +40,8 @@ class EarlyExitSet {
 struct RenderOptions {
   Algorithm algorithm = Algorithm::single_pass;
   EarlyExitSet earlyExits = EarlyExitSet::all();
+  // How a ray finds its nearest sphere; never changes the image.
+  Accel accel = Accel::none;
 };
 
 RenderOptions optionsForStage(Stage stage);

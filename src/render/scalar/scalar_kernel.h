@@ -2,6 +2,7 @@
 #include <string>
 
 #include "core/image.h"
+#include "render/accel/bvh.h"
 #include "render/render_options.h"
 #include "render/scalar/scalar_model.h"
 #include "scene/camera.h"
@@ -24,8 +25,8 @@ class ScalarKernel {
   // A span may start at any pixel.
   [[nodiscard]] int alignment() const { return 1; }
 
-  // Converts the scene's inputs and picks the variant the options select;
-  // `slots` (worker threads) needs no scratch here.
+  // Converts the scene's inputs, builds the BVH with --accel bvh, and picks
+  // the variant the options select; `slots` (worker threads) needs no scratch.
   void prepare(const Scene& scene, const RenderOptions& options, int slots);
   // Per frame: the camera and the image the spans are written into.
   void beginFrame(const CameraFrame& camera, Image& frame) {
@@ -42,6 +43,7 @@ class ScalarKernel {
                                 int x1, std::span<Rgba8> row);
 
   kernel::ShadingInputs<float> inputs_{};
+  Bvh bvh_;  // --accel bvh only
   SpanFunction span_ = nullptr;
   CameraFrame camera_{};
   Image* frame_ = nullptr;

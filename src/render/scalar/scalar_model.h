@@ -19,6 +19,7 @@ namespace rt::kernel {
 template <typename Real>
 struct ShadingInputs {
   std::span<const Sphere> spheres;
+  const Bvh* bvh;  // null: brute force
   Vec3<Real> toLight;  // -directionalLightDirection
   Vec3<Real> lightColor;
   Vec3<Real> ambientColor;
@@ -30,6 +31,7 @@ struct ShadingInputs {
 
   static ShadingInputs from(const Scene& scene) {
     return {scene.spheres,
+            nullptr,
             -Vec3<Real>(scene.lightData.directionalLightDirection),
             Vec3<Real>(scene.lightData.directionalLightColor),
             Vec3<Real>(scene.lightData.ambientLightColor),
@@ -68,7 +70,7 @@ inline Vec3<Real> traceSinglePass(const ShadingInputs<Real>& in, Ray<Real> ray) 
   Vec3<Real> color(0);
   Vec3<Real> throughput(1);
   for (int depth = 0; depth < in.maxDepth; ++depth) {
-    const RaycastHit<Real> hit = nearestHit(ray, in.spheres);
+    const RaycastHit<Real> hit = nearestHit(ray, in.spheres, in.bvh);
     if (!hit.hit()) {
       color += throughput * in.background;
       if constexpr (kBounceExit) break;
@@ -102,7 +104,7 @@ inline Vec3<Real> traceTwoPass(const ShadingInputs<Real>& in, Ray<Real> ray,
   for (; count < in.maxDepth; ++count) {
     PathSegment<Real>& s = segments[static_cast<std::size_t>(count)];
     s.ray = ray;
-    s.hit = nearestHit(ray, in.spheres);
+    s.hit = nearestHit(ray, in.spheres, in.bvh);
     if (!s.hit.hit()) {
       if constexpr (kBounceExit) {
         ++count;

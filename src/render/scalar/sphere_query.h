@@ -1,12 +1,15 @@
 #pragma once
 // The spatial query of the scalar kernel: the nearest sphere a ray hits.
-// Brute force: every ray is tested against every sphere. This is the one
-// place the scalar kernels ask the scene which sphere a ray meets; an
-// acceleration structure replaces the loop in nearestHit().
+// Brute force tests every ray against every sphere; with a BVH
+// (--accel bvh) only the spheres whose boxes the ray reaches are tested.
+// This is the one place the scalar kernels ask which sphere a ray meets.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <span>
 
+#include "render/accel/bvh.h"
 #include "render/scalar/ray.h"
 #include "scene/scene.h"
 
@@ -28,7 +31,21 @@ inline Real intersectSphere(const Ray<Real>& ray, const Sphere& sphere) {
   return t;
 }
 
-// The nearest hit over all spheres; on an exact tie the lower index wins.
+// The hit record of sphere `index` at distance `t` (or a miss for index -1).
+template <typename Real>
+inline RaycastHit<Real> hitRecord(const Ray<Real>& ray, std::span<const Sphere> spheres, Real t, int index) {
+  RaycastHit<Real> hit{};
+  hit.sphere = index;
+  if (index >= 0) {
+    const Sphere& s = spheres[static_cast<std::size_t>(index)];
+    hit.distance = t;
+    hit.position = ray.origin + t * ray.direction;
+    hit.normal = (hit.position - Vec3<Real>(s.position)) / static_cast<Real>(s.radius);
+  }
+  return hit;
+}
+
+// Brute force: the nearest hit over all spheres; on an exact tie the lower index wins.
 template <typename Real>
 inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere> spheres) {
   Real best = std::numeric_limits<Real>::infinity();
@@ -40,15 +57,68 @@ inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere>
       bestIndex = static_cast<int>(i);
     }
   }
-  RaycastHit<Real> hit{};
-  hit.sphere = bestIndex;
-  if (bestIndex >= 0) {
-    const Sphere& s = spheres[static_cast<std::size_t>(bestIndex)];
-    hit.distance = best;
-    hit.position = ray.origin + best * ray.direction;
-    hit.normal = (hit.position - Vec3<Real>(s.position)) / static_cast<Real>(s.radius);
+  return hitRecord(ray, spheres, best, bestIndex);
+}
+
+// A component that is exactly zero becomes a tiny one of the same sign, so
+// that the slab test's 0 * infinity never makes a NaN.
+template <typename Real>
+inline Vec3<Real> inverseDirection(const Vec3<Real>& d) {
+  const auto safe = [](Real c) { return std::abs(c) < Real(1e-30) ? std::copysign(Real(1e-30), c) : c; };
+  return Real(1) / Vec3<Real>(safe(d.x), safe(d.y), safe(d.z));
+}
+
+// Whether the ray may meet a sphere inside `node`'s box, widened by `pad`,
+// nearer than `best` (+ pad).
+template <typename Real>
+inline bool boxReachable(const BvhNode& node, const Ray<Real>& ray, const Vec3<Real>& inverse, Real pad, Real best) {
+  const Vec3<Real> t0 = (Vec3<Real>(node.lo) - pad - ray.origin) * inverse;
+  const Vec3<Real> t1 = (Vec3<Real>(node.hi) + pad - ray.origin) * inverse;
+  const Vec3<Real> near = glm::min(t0, t1);
+  const Vec3<Real> far = glm::max(t0, t1);
+  const Real tmin = std::max({near.x, near.y, near.z});
+  const Real tmax = std::min({far.x, far.y, far.z});
+  return tmin <= tmax && tmax >= -pad && tmin <= best + pad;
+}
+
+// With a BVH: the same nearest hit as brute force, the same float test per
+// sphere, spheres visited in tree order (so an exact tie is settled by the
+// index, not by the order of the visit). Near child first, a fixed stack.
+template <typename Real>
+inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere> spheres, const Bvh& bvh) {
+  const Vec3<Real> inverse = inverseDirection(ray.direction);
+  const Vec3<Real> a = glm::abs(ray.origin);
+  const Real pad = traversalPad(bvh, static_cast<float>(std::max({a.x, a.y, a.z})));
+  Real best = std::numeric_limits<Real>::infinity();
+  int bestIndex = -1;
+  std::uint32_t stack[kBvhMaxDepth + 2];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const BvhNode& node = bvh.nodes[stack[--top]];
+    if (!boxReachable(node, ray, inverse, pad, best)) continue;
+    if (!node.leaf()) {
+      const bool negative = ray.direction[node.axis()] < Real(0);
+      stack[top++] = node.first + (negative ? 0u : 1u);  // far child
+      stack[top++] = node.first + (negative ? 1u : 0u);  // near child, visited next
+      continue;
+    }
+    for (std::uint32_t k = node.first; k < node.first + node.count(); ++k) {
+      const auto index = static_cast<int>(bvh.order[k]);
+      const Real t = intersectSphere(ray, spheres[static_cast<std::size_t>(index)]);
+      if (t > kEpsilon<Real> && (t < best || (t == best && index < bestIndex))) {
+        best = t;
+        bestIndex = index;
+      }
+    }
   }
-  return hit;
+  return hitRecord(ray, spheres, best, bestIndex);
+}
+
+// The kernels' one entry to the spatial query: the BVH when there is one.
+template <typename Real>
+inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere> spheres, const Bvh* bvh) {
+  return bvh ? nearestHit(ray, spheres, *bvh) : nearestHit(ray, spheres);
 }
 
 }  // namespace rt::kernel

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "render/accel/bvh.h"
 #include "render/kernel_variant.h"
 
 namespace rt::simd {
@@ -27,6 +28,7 @@ struct SphereArrays {
   const float* colorG = nullptr;
   const float* colorB = nullptr;
   int count = 0;
+  const Bvh* bvh = nullptr;  // --accel bvh; null: brute force
 };
 
 using Float3 = std::array<float, 3>;

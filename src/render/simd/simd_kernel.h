@@ -36,8 +36,9 @@ class SimdKernel {
   // A span starts at a multiple of the packet width.
   [[nodiscard]] int alignment() const { return kernels_.lanes; }
 
-  // The spheres as arrays, the scene's light and shading, the variant the
-  // options select, and two-pass scratch for `slots` worker threads.
+  // The spheres as arrays (and their BVH with --accel bvh), the scene's
+  // light and shading, the variant the options select, and two-pass
+  // scratch for `slots` worker threads.
   void prepare(const Scene& scene, const RenderOptions& options, int slots);
   void beginFrame(const CameraFrame& camera, Image& frame);
   // Pixels x0..x1-1 of row y; `slot` (the worker's index) picks its scratch.
@@ -60,6 +61,7 @@ class SimdKernel {
   simd::FrameParams params_{};         // scene parts set in prepare(), camera per frame
 
   std::vector<float> sphereData_;  // SoA: 8 arrays of sphereCount floats each
+  Bvh bvh_;                        // --accel bvh only
   std::vector<CacheLine> scratch_;  // one slot per thread for the two-pass forward pass
   std::size_t scratchLinesPerSlot_ = 0;
 };

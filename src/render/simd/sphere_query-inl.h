@@ -1,47 +1,138 @@
 // The spatial query of the SIMD kernel: per lane, the nearest sphere the
 // ray hits (docs/render-model.md section 3). Brute force: every packet is
-// tested against every sphere. This is the one place the packet kernels ask
-// the scene which sphere a ray meets; an acceleration structure replaces
-// the loop in NearestSphere().
+// tested against every sphere; with a BVH (--accel bvh) only the spheres
+// whose boxes some lane reaches. This is the one place the packet kernels
+// ask which sphere a ray meets.
 //
 // A fragment, not a header: packet_kernel-inl.h includes it inside its
 // per-target namespace, after the packet types, once per Highway target.
 
-// Nearest sphere per lane over all spheres, lower index on a tie. Lanes
-// outside `active` (past the row's end, or already missed) report no hit.
+// One sphere against every lane: where it is hit nearer than the lane's
+// best, it becomes the best. With kTieByIndex an exact tie goes to the
+// lower index (needed where spheres come in tree order; brute force visits
+// them in index order, where `<` alone settles ties the same way).
 // kSphereExit / kDiscriminantExit are the thesis' two SIMD early exits.
+template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
+HWY_INLINE void TestSphere(D d, const SphereArrays& s, int i, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
+                           VecF<D>& bestIndex) {
+  const VecF<D> eps = hn::Set(d, kEpsilon);
+  const Vec3x<D>& o = ray.origin;
+  const Vec3x<D>& dir = ray.direction;
+  const VecF<D> ocx = o.x - hn::Set(d, s.centerX[i]);
+  const VecF<D> ocy = o.y - hn::Set(d, s.centerY[i]);
+  const VecF<D> ocz = o.z - hn::Set(d, s.centerZ[i]);
+  const VecF<D> b = hn::MulAdd(ocz, dir.z, hn::MulAdd(ocy, dir.y, ocx * dir.x));
+  // f = oc - b d: centre to the point of closest approach; disc = r^2 - |f|^2.
+  const VecF<D> fx = hn::NegMulAdd(b, dir.x, ocx);
+  const VecF<D> fy = hn::NegMulAdd(b, dir.y, ocy);
+  const VecF<D> fz = hn::NegMulAdd(b, dir.z, ocz);
+  const VecF<D> disc = hn::Set(d, s.radiusSquared[i]) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
+  const MaskF<D> real = hn::And(active, disc >= hn::Zero(d));
+  if constexpr (kDiscriminantExit) {
+    if (hn::AllFalse(d, real)) return;  // before the sqrt and all that follows
+  }
+  const VecF<D> h = hn::Sqrt(disc);  // NaN where disc < 0; those lanes are not `real`
+  const VecF<D> minusB = hn::Zero(d) - b;
+  const VecF<D> near = minusB - h;
+  const VecF<D> t = hn::IfThenElse(near <= eps, minusB + h, near);
+  const MaskF<D> hit = hn::And(real, t > eps);
+  if constexpr (kSphereExit) {
+    if (hn::AllFalse(d, hit)) return;  // no lane hits: skip the bookkeeping
+  }
+  const VecF<D> index = hn::Set(d, static_cast<float>(i));
+  MaskF<D> better = t < bestT;
+  if constexpr (kTieByIndex) better = hn::Or(better, hn::And(t == bestT, index < bestIndex));
+  const MaskF<D> closer = hn::And(hit, better);
+  bestT = hn::IfThenElse(closer, t, bestT);
+  bestIndex = hn::IfThenElse(closer, index, bestIndex);
+}
+
+// Brute force: every sphere in index order.
+template <bool kSphereExit, bool kDiscriminantExit, class D>
+HWY_INLINE void NearestSphereOfAll(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
+                                   VecF<D>& bestIndex) {
+  for (int i = 0; i < s.count; ++i) TestSphere<kSphereExit, kDiscriminantExit, false>(d, s, i, ray, active, bestT, bestIndex);
+}
+
+// The lanes of `active` that may meet a sphere inside `node`'s box, widened
+// by `pad` (per lane: traversalPad() of its origin), nearer than their best.
+template <class D>
+HWY_INLINE MaskF<D> BoxReachable(D d, const BvhNode& node, const RayX<D>& ray, const Vec3x<D>& inverse, VecF<D> pad,
+                                 VecF<D> bestT, MaskF<D> active) {
+  const auto slab = [&](float lo, float hi, VecF<D> o, VecF<D> inv, VecF<D>& near, VecF<D>& far) {
+    const VecF<D> t0 = (hn::Set(d, lo) - pad - o) * inv;
+    const VecF<D> t1 = (hn::Set(d, hi) + pad - o) * inv;
+    near = hn::Min(t0, t1);
+    far = hn::Max(t0, t1);
+  };
+  VecF<D> nx, fx, ny, fy, nz, fz;
+  slab(node.lo.x, node.hi.x, ray.origin.x, inverse.x, nx, fx);
+  slab(node.lo.y, node.hi.y, ray.origin.y, inverse.y, ny, fy);
+  slab(node.lo.z, node.hi.z, ray.origin.z, inverse.z, nz, fz);
+  const VecF<D> tmin = hn::Max(nx, hn::Max(ny, nz));
+  const VecF<D> tmax = hn::Min(fx, hn::Min(fy, fz));
+  const MaskF<D> crosses = hn::And(tmin <= tmax, tmax >= hn::Zero(d) - pad);
+  return hn::And(active, hn::And(crosses, tmin <= bestT + pad));
+}
+
+// 1 / d per lane, a zero component made a tiny one of its sign (no 0 * inf).
+template <class D>
+HWY_INLINE Vec3x<D> InverseDirection(D d, const Vec3x<D>& dir) {
+  const VecF<D> tiny = hn::Set(d, 1e-30f);
+  const auto safe = [&](VecF<D> c) { return hn::IfThenElse(hn::Abs(c) < tiny, hn::CopySign(tiny, c), c); };
+  const VecF<D> one = hn::Set(d, 1.0f);
+  return {one / safe(dir.x), one / safe(dir.y), one / safe(dir.z)};
+}
+
+// traversalPad() (render/accel/bvh.h) per lane.
+template <class D>
+HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
+  const VecF<D> scale = hn::Max(hn::Abs(origin.x), hn::Max(hn::Abs(origin.y), hn::Abs(origin.z))) +
+                        hn::Set(d, bvh.maxCoordinate);
+  return hn::Set(d, 1e-5f) * scale + hn::Set(d, 3e-3f) * hn::Sqrt(hn::Set(d, bvh.maxRadius) * scale) +
+         hn::Set(d, 2e-3f * bvh.maxRadius + 1e-6f);
+}
+
+// With a BVH: the packet walks the tree together, visiting a node while
+// any active lane reaches its box, near child first by the first lane's
+// direction; each lane ends with the same nearest sphere as brute force.
+template <bool kSphereExit, bool kDiscriminantExit, class D>
+HWY_INLINE void NearestSphereInBvh(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
+                                   VecF<D>& bestIndex) {
+  const Bvh& bvh = *s.bvh;
+  const Vec3x<D> inverse = InverseDirection(d, ray.direction);
+  const VecF<D> pad = TraversalPad(d, bvh, ray.origin);
+  const float firstDirection[3] = {hn::GetLane(ray.direction.x), hn::GetLane(ray.direction.y),
+                                   hn::GetLane(ray.direction.z)};
+  std::uint32_t stack[kBvhMaxDepth + 2];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const BvhNode& node = bvh.nodes[stack[--top]];
+    if (hn::AllFalse(d, BoxReachable(d, node, ray, inverse, pad, bestT, active))) continue;
+    if (!node.leaf()) {
+      const bool negative = firstDirection[node.axis()] < 0.0f;
+      stack[top++] = node.first + (negative ? 0u : 1u);  // far child
+      stack[top++] = node.first + (negative ? 1u : 0u);  // near child, visited next
+      continue;
+    }
+    for (std::uint32_t k = node.first; k < node.first + node.count(); ++k) {
+      TestSphere<kSphereExit, kDiscriminantExit, true>(d, s, static_cast<int>(bvh.order[k]), ray, active, bestT,
+                                                       bestIndex);
+    }
+  }
+}
+
+// Nearest sphere per lane, lower index on a tie. Lanes outside `active`
+// (past the row's end, or already missed) report no hit.
 template <bool kSphereExit, bool kDiscriminantExit, class D>
 HWY_INLINE void NearestSphere(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
                               VecF<D>& bestIndex) {
-  const VecF<D> eps = hn::Set(d, kEpsilon);
   bestT = hn::Set(d, std::numeric_limits<float>::infinity());
   bestIndex = hn::Set(d, -1.0f);
-  const Vec3x<D>& o = ray.origin;
-  const Vec3x<D>& dir = ray.direction;
-  for (int i = 0; i < s.count; ++i) {
-    const VecF<D> ocx = o.x - hn::Set(d, s.centerX[i]);
-    const VecF<D> ocy = o.y - hn::Set(d, s.centerY[i]);
-    const VecF<D> ocz = o.z - hn::Set(d, s.centerZ[i]);
-    const VecF<D> b = hn::MulAdd(ocz, dir.z, hn::MulAdd(ocy, dir.y, ocx * dir.x));
-    // f = oc - b d: centre to the point of closest approach; disc = r^2 - |f|^2.
-    const VecF<D> fx = hn::NegMulAdd(b, dir.x, ocx);
-    const VecF<D> fy = hn::NegMulAdd(b, dir.y, ocy);
-    const VecF<D> fz = hn::NegMulAdd(b, dir.z, ocz);
-    const VecF<D> disc = hn::Set(d, s.radiusSquared[i]) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
-    const MaskF<D> real = hn::And(active, disc >= hn::Zero(d));
-    if constexpr (kDiscriminantExit) {
-      if (hn::AllFalse(d, real)) continue;  // before the sqrt and all that follows
-    }
-    const VecF<D> h = hn::Sqrt(disc);  // NaN where disc < 0; those lanes are not `real`
-    const VecF<D> minusB = hn::Zero(d) - b;
-    const VecF<D> near = minusB - h;
-    const VecF<D> t = hn::IfThenElse(near <= eps, minusB + h, near);
-    const MaskF<D> hit = hn::And(real, t > eps);
-    if constexpr (kSphereExit) {
-      if (hn::AllFalse(d, hit)) continue;  // no lane hits: skip the bookkeeping
-    }
-    const MaskF<D> closer = hn::And(hit, t < bestT);
-    bestT = hn::IfThenElse(closer, t, bestT);
-    bestIndex = hn::IfThenElse(closer, hn::Set(d, static_cast<float>(i)), bestIndex);
+  if (s.bvh) {
+    NearestSphereInBvh<kSphereExit, kDiscriminantExit>(d, s, ray, active, bestT, bestIndex);
+  } else {
+    NearestSphereOfAll<kSphereExit, kDiscriminantExit>(d, s, ray, active, bestT, bestIndex);
   }
 }

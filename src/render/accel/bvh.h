@@ -1,0 +1,59 @@
+#pragma once
+// A bounding-volume hierarchy over a scene's spheres, built once per scene
+// in prepare() with a binned surface-area heuristic. Binary, 32-byte nodes
+// in one array, children side by side: compact enough for a storage buffer
+// and cheap to walk with a small fixed stack, one ray or one packet at a
+// time.
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "scene/scene.h"
+
+namespace rt {
+
+struct BvhNode {
+  glm::vec3 lo;         // bounds of every sphere below
+  std::uint32_t first;  // leaf: first slot in Bvh::order; inner: index of the left child (right = left + 1)
+  glm::vec3 hi;
+  std::uint32_t meta;   // leaf: sphere count (> 0); inner: 0 in the low 30 bits, split axis in the top 2
+
+  [[nodiscard]] bool leaf() const { return (meta & kCountMask) != 0; }
+  [[nodiscard]] std::uint32_t count() const { return meta & kCountMask; }
+  [[nodiscard]] int axis() const { return static_cast<int>(meta >> 30); }
+
+  static constexpr std::uint32_t kCountMask = (1u << 30) - 1;
+};
+static_assert(sizeof(BvhNode) == 32);
+
+struct Bvh {
+  std::vector<BvhNode> nodes;        // nodes[0] is the root
+  std::vector<std::uint32_t> order;  // sphere indices, leaf by leaf
+  int depth = 0;                     // levels below the root, for sizing traversal stacks
+  float maxRadius = 0.0f;            // of any sphere, and the largest |coordinate| of
+  float maxCoordinate = 0.0f;        // any sphere's bounds: they size traversalPad()
+};
+
+// How far a box must be widened, in space and along the ray, so that no
+// sphere whose float intersection (docs/render-model.md section 3) reports a
+// hit is culled by its box: the float test may report a hit a little
+// outside the exact sphere, most near tangency, and its distance may be off
+// by as much. Grows with the ray origin's largest |coordinate|.
+inline float traversalPad(const Bvh& bvh, float originMaxCoordinate) {
+  const float scale = originMaxCoordinate + bvh.maxCoordinate;
+  return 1e-5f * scale + 3e-3f * std::sqrt(bvh.maxRadius * scale) + 2e-3f * bvh.maxRadius + 1e-6f;
+}
+
+// Deepest tree a traversal stack must hold (the build stops splitting there).
+inline constexpr int kBvhMaxDepth = 48;
+// Spheres a leaf holds at most unless they cannot be told apart (coincident centres).
+inline constexpr std::uint32_t kBvhMaxLeafSize = 4;
+
+// Builds the hierarchy over `spheres` (at least one). Deterministic: the
+// same spheres give the same tree.
+Bvh buildBvh(std::span<const Sphere> spheres);
+
+}  // namespace rt
