@@ -2,13 +2,16 @@
 profiles/README.md) and their expansion into configurations and a schedule.
 
 A profile names scenes, stages (or explicit algorithm / early-exit sets),
-renderers with their own axes (threads, lanes, grain, device, present), the
-image size, warm-up and measured frames, repetitions and the interleaving.
+renderers with their own axes (the renderer options the schema gives each,
+of threads, lanes, grain and partition; and device, present), the image
+size, warm-up and measured frames, repetitions and the interleaving. Every
+key is checked against one table of rules (TOP_RULES and the others below).
 Everything here is pure: reading the TOML is the only I/O.
 """
 
 from __future__ import annotations
 
+import copy
 import itertools
 import random
 import re
@@ -21,22 +24,15 @@ from rtbench import names
 PROFILES_DIR = names.REPO_ROOT / "profiles"
 SCENES_DIR = names.REPO_ROOT / "scenes"
 
-# Per-renderer axes and the raytracer option each one sets. A renderer lists
-# only the axes it accepts (the sequential renderer takes none of them).
-RENDERER_AXES = {"threads": "--threads", "lanes": "--lanes", "grain": "--grain", "device": "--device", "present": "--present"}
-RENDERER_KEYS = {*RENDERER_AXES, "args"}
-TOP_KEYS = {
-    "description", "preset", "scenes", "stages", "width", "height", "warmup", "frames",
-    "repetitions", "interleave", "seed", "args", "timeout_s", "renderers", "overrides",
-}
-REQUIRED_KEYS = {"description", "scenes", "stages", "renderers"}
-OVERRIDE_MATCH_KEYS = {"renderers", "stages", "scenes"}
-OVERRIDE_SET_KEYS = {"width", "height", "warmup", "frames", "args", "skip"}
 INTERLEAVE_MODES = ("round-robin", "shuffle", "blocked")
-DEFAULTS = {
-    "preset": "release", "width": 800, "height": 600, "warmup": 1, "frames": 5, "repetitions": 1,
-    "interleave": "round-robin", "seed": 1, "args": [], "timeout_s": 600, "overrides": [],
-}
+# `--lanes native`: the widest packet of the SIMD target chosen at run time;
+# the other values are the schema's lane_widths.
+NATIVE_LANES = "native"
+# Axes every renderer takes: raytracer options of the run, not of the renderer.
+RUN_AXES = {"device": "--device", "present": "--present"}
+# Every axis and the raytracer option it sets: the renderer options of the
+# schema (a renderer takes those its renderers[].options lists), then RUN_AXES.
+RENDERER_AXES = {**names.OPTION_FLAGS, **RUN_AXES}
 
 
 class ProfileError(ValueError):
@@ -151,53 +147,155 @@ def load_profile(name_or_path: str, profiles_dir: Path = PROFILES_DIR) -> Profil
 
 def parse_profile(raw: dict, path: Path) -> Profile:
     """Validates the TOML document of a profile and fills in the defaults."""
-    _check_keys(raw, TOP_KEYS, path, "")
-    missing = sorted(REQUIRED_KEYS - raw.keys())
-    if missing:
-        raise ProfileError(f"{path}: missing key(s) {', '.join(missing)}")
-    values = {**DEFAULTS, **raw}
-    for key in ("width", "height", "frames", "repetitions"):
-        _check_int(values[key], path, key, minimum=1)
-    _check_int(values["warmup"], path, "warmup", minimum=0)
-    _check_int(values["seed"], path, "seed", minimum=0)
-    if values["interleave"] not in INTERLEAVE_MODES:
-        raise ProfileError(f"{path}: interleave must be one of {', '.join(INTERLEAVE_MODES)}, not {values['interleave']!r}")
-    scenes = _string_list(values["scenes"], path, "scenes")
-    variants = tuple(_variant(entry, path, i) for i, entry in enumerate(_as_list(values["stages"], path, "stages")))
+    values = check_table(raw, TOP_RULES, path)
+    variants = tuple(_variant(entry, path, i) for i, entry in enumerate(values["stages"]))
     renderers = _renderers(values["renderers"], path)
-    overrides = tuple(_override(o, path, i, variants) for i, o in enumerate(_as_list(values["overrides"], path, "overrides")))
+    overrides = tuple(_override(o, path, i, variants) for i, o in enumerate(values["overrides"]))
     return Profile(
-        name=path.stem, path=path, description=str(values["description"]), preset=str(values["preset"]),
-        scenes=tuple(scenes), variants=variants, renderers=renderers, width=values["width"],
+        name=path.stem, path=path, description=values["description"], preset=values["preset"],
+        scenes=tuple(values["scenes"]), variants=variants, renderers=renderers, width=values["width"],
         height=values["height"], warmup=values["warmup"], frames=values["frames"],
         repetitions=values["repetitions"], interleave=values["interleave"], seed=values["seed"],
-        args=tuple(_string_list(values["args"], path, "args")), timeout_s=float(values["timeout_s"]),
-        overrides=overrides, raw=raw,
+        args=tuple(values["args"]), timeout_s=float(values["timeout_s"]), overrides=overrides, raw=raw,
     )
 
 
-def _check_keys(table: dict, allowed: set[str], path: Path, where: str) -> None:
-    unknown = sorted(set(table) - allowed)
+# --- what a profile may say: one rule per key, checked by check_table ---------
+
+REQUIRED, OPTIONAL = object(), object()  # defaults: the key must be there / may be absent
+
+
+@dataclass(frozen=True)
+class Rule:
+    """What one key of a profile table holds: values of `kind` (KINDS), as one
+    value, a list of them, or an axis (one value or a non-empty list, read as
+    a list); numbers at least `minimum`, strings matching `pattern`, and only
+    `choices` where given. `what` describes the value in error messages."""
+
+    kind: str
+    default: object = REQUIRED
+    shape: str = "one"  # "one", "list" or "axis"
+    minimum: int | None = None
+    choices: tuple = ()
+    pattern: str | None = None
+    what: str | None = None
+
+
+def _plain(*types):
+    return lambda v: isinstance(v, types) and not isinstance(v, bool)
+
+
+KINDS = {  # kind -> (description, test)
+    "int": ("an integer", _plain(int)),
+    "number": ("a number", _plain(int, float)),
+    "str": ("a string", _plain(str)),
+    "int|str": ("an integer or a string", _plain(int, str)),
+    "bool": ("true or false", lambda v: isinstance(v, bool)),
+    "table": ("a table", _plain(dict)),
+    "stage": ("a stage name or a table {algorithm = ..., early_exits = [...]}", _plain(str, dict)),
+}
+
+TOP_RULES = {
+    "description": Rule("str"),
+    "preset": Rule("str", "release"),
+    "scenes": Rule("str", shape="list"),
+    "stages": Rule("stage", shape="list"),
+    "width": Rule("int", 800, minimum=1),
+    "height": Rule("int", 600, minimum=1),
+    "warmup": Rule("int", 1, minimum=0),
+    "frames": Rule("int", 5, minimum=1),
+    "repetitions": Rule("int", 1, minimum=1),
+    "interleave": Rule("str", "round-robin", choices=INTERLEAVE_MODES),
+    "seed": Rule("int", 1, minimum=0),
+    "args": Rule("str", [], shape="list"),
+    "timeout_s": Rule("number", 600, minimum=1),
+    "renderers": Rule("table"),
+    "overrides": Rule("table", [], shape="list"),
+}
+STAGE_RULES = {
+    "algorithm": Rule("str", choices=tuple(names.ALGORITHMS)),
+    "early_exits": Rule("str", [], shape="list", choices=tuple(names.EARLY_EXITS)),
+}
+# [[overrides]]: which configurations a table matches, and what it sets there.
+OVERRIDE_RULES = {
+    "renderers": Rule("str", OPTIONAL, shape="list", choices=tuple(names.RENDERERS)),
+    "stages": Rule("str", OPTIONAL, shape="list"),
+    "scenes": Rule("str", OPTIONAL, shape="list"),
+    **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in ("width", "height", "warmup", "frames", "args")},
+    "skip": Rule("bool", OPTIONAL),
+}
+# The values of each axis of [renderers.NAME].
+AXIS_RULES = {
+    "threads": Rule("int|str", OPTIONAL, "axis", minimum=1, pattern=r"all|\d+|(\d+|all)\.\.(\d+|all)",
+                    what='a positive integer, "all" or a range "A..B" (B may be "all")'),
+    "lanes": Rule("int|str", OPTIONAL, "axis", choices=(*names.LANE_WIDTHS, NATIVE_LANES)),
+    "grain": Rule("int", OPTIONAL, "axis", minimum=1),
+    "partition": Rule("str", OPTIONAL, "axis", choices=tuple(names.PARTITIONS)),
+    "device": Rule("int|str", OPTIONAL, "axis", minimum=0),
+    "present": Rule("str", OPTIONAL, "axis", choices=tuple(names.PRESENT_MODES)),
+}
+if set(RENDERER_AXES) - set(AXIS_RULES):
+    raise ImportError(f"rtbench.profiles has no rule for the schema's renderer option(s) "
+                      f"{', '.join(sorted(set(RENDERER_AXES) - set(AXIS_RULES)))}")
+
+
+def renderer_rules(renderer: str) -> dict[str, Rule]:
+    """The keys of [renderers.NAME]: the options the schema says it accepts,
+    the run's axes (device, present) and extra args."""
+    axes = [*names.RENDERER_OPTIONS[renderer], *RUN_AXES]
+    return {**{axis: AXIS_RULES[axis] for axis in axes}, "args": Rule("str", [], shape="list")}
+
+
+def describe(rule: Rule) -> str:
+    """What a rule accepts, in words: 'an integer >= 1', 'a list, each one of a, b'."""
+    one = rule.what or KINDS[rule.kind][0]
+    if rule.choices:
+        one = f"one of {', '.join(map(str, rule.choices))}"
+    elif rule.minimum is not None and not rule.what:
+        one += f" >= {rule.minimum}"
+    return {"one": one, "list": f"a list, each {one}", "axis": f"{one}, or a non-empty list of them"}[rule.shape]
+
+
+def _fits(item, rule: Rule) -> bool:
+    if not KINDS[rule.kind][1](item):
+        return False
+    if rule.choices:
+        return item in rule.choices
+    if isinstance(item, str):
+        return rule.pattern is None or re.fullmatch(rule.pattern, item) is not None
+    return rule.minimum is None or item >= rule.minimum
+
+
+def check_value(value, rule: Rule, path: Path, key: str):
+    """The value if it follows the rule (an axis as a list), else a ProfileError naming file and key."""
+    if rule.shape == "one":
+        items = [value]
+    elif isinstance(value, list):
+        items = value
+    else:
+        items = [value] if rule.shape == "axis" else None
+    if items is None or (rule.shape == "axis" and not items) or not all(_fits(item, rule) for item in items):
+        raise ProfileError(f"{path}: {key} must be {describe(rule)}, not {value!r}")
+    return items if rule.shape == "axis" else value
+
+
+def check_table(table: dict, rules: dict[str, Rule], path: Path, where: str = "", what: str = "key") -> dict:
+    """Checks every key of a TOML table against its rule: no unknown keys, no
+    missing required ones, each value as its rule says. Returns the values
+    with the defaults filled in (absent OPTIONAL keys stay absent)."""
+    unknown = sorted(set(table) - set(rules))
     if unknown:
-        raise ProfileError(f"{path}: unknown key {where}{unknown[0]!r} (known: {', '.join(sorted(allowed))})")
-
-
-def _check_int(value, path: Path, key: str, minimum: int) -> None:
-    if not isinstance(value, int) or isinstance(value, bool) or value < minimum:
-        raise ProfileError(f"{path}: {key} must be an integer >= {minimum}, not {value!r}")
-
-
-def _as_list(value, path: Path, key: str) -> list:
-    if not isinstance(value, list):
-        raise ProfileError(f"{path}: {key} must be a list, not {value!r}")
-    return value
-
-
-def _string_list(value, path: Path, key: str) -> list[str]:
-    items = _as_list(value, path, key)
-    if not all(isinstance(v, str) for v in items):
-        raise ProfileError(f"{path}: {key} must be a list of strings, not {value!r}")
-    return items
+        raise ProfileError(f"{path}: unknown {what} '{where}{unknown[0]}' (known: {', '.join(sorted(rules))})")
+    missing = [key for key, rule in rules.items() if rule.default is REQUIRED and key not in table]
+    if missing:
+        raise ProfileError(f"{path}: missing key(s) {', '.join(where + key for key in missing)}")
+    values = {}
+    for key, rule in rules.items():
+        if key in table:
+            values[key] = check_value(table[key], rule, path, where + key)
+        elif rule.default is not OPTIONAL:
+            values[key] = copy.copy(rule.default)
+    return values
 
 
 def _variant(entry, path: Path, index: int) -> Variant:
@@ -207,66 +305,36 @@ def _variant(entry, path: Path, index: int) -> Variant:
             raise ProfileError(f"{path}: stages[{index}]: unknown stage {entry!r} (schema: {', '.join(names.STAGES)})")
         stage = names.STAGES[entry]
         return Variant(entry, stage["algorithm"], tuple(stage["early_exits"]), named_stage=True)
-    if not isinstance(entry, dict):
-        raise ProfileError(f"{path}: stages[{index}] must be a stage name or a table")
-    _check_keys(entry, {"algorithm", "early_exits"}, path, f"stages[{index}].")
-    algorithm = entry.get("algorithm")
-    if algorithm not in names.ALGORITHMS:
-        raise ProfileError(f"{path}: stages[{index}].algorithm must be one of {', '.join(names.ALGORITHMS)}")
-    exits = _string_list(entry.get("early_exits", []), path, f"stages[{index}].early_exits")
-    bad = [e for e in exits if e not in names.EARLY_EXITS]
-    if bad:
-        raise ProfileError(f"{path}: stages[{index}]: unknown early exit {bad[0]!r} (schema: {', '.join(names.EARLY_EXITS)})")
-    ordered = tuple(e for e in names.EARLY_EXITS if e in exits)
-    label = names.stage_of(algorithm, names.EARLY_EXIT_SEPARATOR.join(ordered) or names.NO_EARLY_EXIT)
-    return Variant(label, algorithm, ordered, named_stage=False)
+    values = check_table(entry, STAGE_RULES, path, f"stages[{index}].")
+    ordered = tuple(e for e in names.EARLY_EXITS if e in values["early_exits"])
+    label = names.stage_of(values["algorithm"], names.EARLY_EXIT_SEPARATOR.join(ordered) or names.NO_EARLY_EXIT)
+    return Variant(label, values["algorithm"], ordered, named_stage=False)
 
 
-def _renderers(table, path: Path) -> dict[str, dict[str, list]]:
+def _renderers(table: dict, path: Path) -> dict[str, dict[str, list]]:
     """[renderers.NAME] tables, in file order, each axis a list of values."""
-    if not isinstance(table, dict) or not table:
+    check_table(table, {r: Rule("table", OPTIONAL) for r in names.RENDERERS}, path, "renderers.", what="renderer")
+    if not table:
         raise ProfileError(f"{path}: renderers must be a table of [renderers.NAME] entries")
     result = {}
     for renderer, spec in table.items():
-        if renderer not in names.RENDERERS:
-            raise ProfileError(f"{path}: unknown renderer {renderer!r} (schema: {', '.join(names.RENDERERS)})")
-        if not isinstance(spec, dict):
-            raise ProfileError(f"{path}: renderers.{renderer} must be a table")
-        _check_keys(spec, RENDERER_KEYS, path, f"renderers.{renderer}.")
-        axes = {axis: _axis_values(spec[axis], path, f"renderers.{renderer}.{axis}") for axis in RENDERER_AXES if axis in spec}
-        axes["args"] = _string_list(spec.get("args", []), path, f"renderers.{renderer}.args")
-        result[renderer] = axes
+        where = f"renderers.{renderer}."
+        refused = [key for key in spec if key in names.OPTION_FLAGS and not names.accepts(renderer, key)]
+        if refused:
+            accepted = ", ".join(names.RENDERER_OPTIONS[renderer]) or "none"
+            raise ProfileError(f"{path}: {where}{refused[0]}: renderer {renderer} does not take {refused[0]} "
+                               f"(schema/rt_schema.json: its options are {accepted})")
+        result[renderer] = check_table(spec, renderer_rules(renderer), path, where)
     return result
 
 
-def _axis_values(value, path: Path, key: str) -> list:
-    values = value if isinstance(value, list) else [value]
-    if not values or not all(isinstance(v, (int, str)) and not isinstance(v, bool) for v in values):
-        raise ProfileError(f"{path}: {key} must be a non-empty list of integers or strings")
-    return values
-
-
-def _override(entry, path: Path, index: int, variants: tuple[Variant, ...]) -> dict:
+def _override(entry: dict, path: Path, index: int, variants: tuple[Variant, ...]) -> dict:
     where = f"overrides[{index}]"
-    if not isinstance(entry, dict):
-        raise ProfileError(f"{path}: {where} must be a table")
-    _check_keys(entry, OVERRIDE_MATCH_KEYS | OVERRIDE_SET_KEYS, path, f"{where}.")
-    for key in OVERRIDE_MATCH_KEYS & entry.keys():
-        _string_list(entry[key], path, f"{where}.{key}")
-    unknown = [r for r in entry.get("renderers", []) if r not in names.RENDERERS]
-    if unknown:
-        raise ProfileError(f"{path}: {where}: unknown renderer {unknown[0]!r}")
+    check_table(entry, OVERRIDE_RULES, path, f"{where}.")
     labels = {v.label for v in variants}
     unknown = [s for s in entry.get("stages", []) if s not in labels]
     if unknown:
         raise ProfileError(f"{path}: {where}: stage {unknown[0]!r} is not among this profile's stages")
-    for key in ("width", "height", "frames"):
-        if key in entry:
-            _check_int(entry[key], path, f"{where}.{key}", minimum=1)
-    if "warmup" in entry:
-        _check_int(entry["warmup"], path, f"{where}.warmup", minimum=0)
-    if "args" in entry:
-        _string_list(entry["args"], path, f"{where}.args")
     return entry
 
 

@@ -5,7 +5,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
-from rtbench import names, profiles
+from rtbench import names, profiles, schema
 from rtbench.profiles import ProfileError
 
 SHIPPED = sorted(p.stem for p in profiles.PROFILES_DIR.glob("*.toml"))
@@ -115,6 +115,14 @@ def _write(tmp_path, text):
         ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.simd_tbb]\nwarp = [1]\n', "warp"),
         ('description = "x"\nstages = ["optimized"]\n[renderers.sequential]\n', "scenes"),
         ('description = "x"\nscenes = [\n', "TOML"),
+        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.simd_only]\nlanes = [3]\n',
+         "renderers.simd_only.lanes must be one of 4, 8, 16, native"),
+        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.simd_tbb]\npartition = "cols"\n',
+         "renderers.simd_tbb.partition must be one of rows, tiles"),
+        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.tbb_only]\nthreads = ["many"]\n',
+         "renderers.tbb_only.threads must be a positive integer"),
+        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\ninterleave = "random"\n[renderers.gpu]\n',
+         "interleave must be one of round-robin, shuffle, blocked, not 'random'"),
     ],
 )
 def test_bad_profiles_are_rejected_naming_file_and_key(tmp_path, body, message):
@@ -134,3 +142,28 @@ def test_scenes_by_name_or_path(tmp_path):
         profiles.resolve_scene("nosuch")
     with pytest.raises(ProfileError, match="no profile 'nosuch'"):
         profiles.load_profile("nosuch")
+
+
+OPTION_VALUES = {"threads": 2, "lanes": names.LANE_WIDTHS[0], "grain": 4, "partition": names.PARTITIONS[-1]}
+
+
+@pytest.mark.parametrize("renderer", names.RENDERERS)
+@pytest.mark.parametrize("option", names.OPTION_FLAGS)
+def test_a_renderer_takes_exactly_the_options_the_schema_gives_it(tmp_path, renderer, option):
+    value = OPTION_VALUES[option]
+    path = _write(tmp_path, f"""
+        description = "x"
+        scenes = ["default"]
+        stages = ["optimized"]
+        [renderers.{renderer}]
+        {option} = [{value!r}]
+    """.replace("'", '"'))
+    if option not in schema.accepted_options(renderer):
+        with pytest.raises(ProfileError, match=f"renderers.{renderer}.{option}: renderer {renderer} does not take"):
+            profiles.load_profile(str(path))
+        return
+    profile = profiles.load_profile(str(path))
+    (config,) = profiles.expand(profile, [profiles.resolve_scene("default")], cpu_count=2)
+    argv = config.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
+    flag = schema.renderer_options()[option]
+    assert argv[argv.index(flag) + 1] == str(value)
