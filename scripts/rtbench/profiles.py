@@ -224,7 +224,8 @@ OVERRIDE_RULES = {
     **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in ("width", "height", "warmup", "frames", "args")},
     "skip": Rule("bool", OPTIONAL),
 }
-# The values of each axis of [renderers.NAME].
+# The values of each axis of [renderers.NAME]; a renderer option the schema
+# gains later takes any integer or string until it has a rule here.
 AXIS_RULES = {
     "threads": Rule("int|str", OPTIONAL, "axis", minimum=1, pattern=r"all|\d+|(\d+|all)\.\.(\d+|all)",
                     what='a positive integer, "all" or a range "A..B" (B may be "all")'),
@@ -234,16 +235,14 @@ AXIS_RULES = {
     "device": Rule("int|str", OPTIONAL, "axis", minimum=0),
     "present": Rule("str", OPTIONAL, "axis", choices=tuple(names.PRESENT_MODES)),
 }
-if set(RENDERER_AXES) - set(AXIS_RULES):
-    raise ImportError(f"rtbench.profiles has no rule for the schema's renderer option(s) "
-                      f"{', '.join(sorted(set(RENDERER_AXES) - set(AXIS_RULES)))}")
+ANY_AXIS = Rule("int|str", OPTIONAL, "axis")
 
 
 def renderer_rules(renderer: str) -> dict[str, Rule]:
     """The keys of [renderers.NAME]: the options the schema says it accepts,
     the run's axes (device, present) and extra args."""
     axes = [*names.RENDERER_OPTIONS[renderer], *RUN_AXES]
-    return {**{axis: AXIS_RULES[axis] for axis in axes}, "args": Rule("str", [], shape="list")}
+    return {**{axis: AXIS_RULES.get(axis, ANY_AXIS) for axis in axes}, "args": Rule("str", [], shape="list")}
 
 
 def describe(rule: Rule) -> str:
