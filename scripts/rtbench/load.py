@@ -139,41 +139,18 @@ def read_metadata(path: Path) -> dict:
     return meta
 
 
-# Where a GPU run's metadata may name its device: the GPU renderer (issue 4)
-# records "device name, type, driver ..."; its key is not in the schema yet,
-# so these spellings are all accepted, at the top level or inside `config`.
-DEVICE_HOLDERS = ("device", "gpu", "vulkan")
-DEVICE_NAME_KEYS = ("name", "device_name", "deviceName")
-
-
-def device_name(meta: dict) -> str:
-    """The GPU's name where the metadata records one; empty otherwise."""
-    for holder in (meta, meta.get(names.META_CONFIG, {})):
-        for key in DEVICE_HOLDERS:
-            value = holder.get(key)
-            if isinstance(value, str) and value:
-                return value
-            if isinstance(value, dict):
-                for name_key in DEVICE_NAME_KEYS:
-                    if value.get(name_key):
-                        return str(value[name_key])
-    return ""
-
-
 def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, source: str) -> pd.DataFrame:
     """One run: its frames, checked against its sidecar, with the metadata
-    columns the statistics group by."""
+    columns the statistics group by. The device is the CSV's own column."""
     columns = read_frame_csv(csv_path)
     meta = read_metadata(meta_path)
     _check_against_meta(csv_path, meta_path, columns, meta)
     frames = pd.DataFrame(columns)
     build = meta.get(names.META_BUILD) or {}
     host = meta.get(names.META_HOST) or {}
-    is_gpu = frames[names.LANES] == names.GPU_LANES
     frames[names.STAGE] = [names.stage_of(a, e) for a, e in zip(frames[names.ALGORITHM], frames[names.EARLY_EXIT])]
     frames[names.REPETITION] = repetition
     frames[names.CONFIG_ID] = config_id
-    frames[names.DEVICE] = is_gpu.map({True: device_name(meta), False: ""})
     frames[names.BUILD_TYPE] = str(build.get("build_type", ""))
     frames[names.CPU_MODEL] = str(host.get("cpu_model", ""))
     frames[names.LOGICAL_CORES] = int(host.get("logical_cores") or 0)

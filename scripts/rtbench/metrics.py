@@ -68,10 +68,11 @@ def gpu_processors(device: str, logical_cores: int, estimates: list[GpuEstimate]
     return math.nan, f"no estimate for device {device or '(unknown)'}; pass --gpu-p"
 
 
-def processors(threads: int, lanes: int, device: str, logical_cores: int, estimates: list[GpuEstimate],
+def processors(renderer: str, threads: int, lanes: int, device: str, logical_cores: int, estimates: list[GpuEstimate],
                gpu_override: float | None = None) -> tuple[float, str]:
-    """p of one configuration: threads x lanes on the CPU, the estimate on the GPU."""
-    if lanes == names.GPU_LANES:
+    """p of one configuration: threads x lanes for a CPU renderer (the schema's
+    backend), the device's estimate for one that renders on a GPU."""
+    if not names.renders_on_cpu(renderer):
         return gpu_processors(device, logical_cores, estimates, gpu_override)
     return float(threads * max(lanes, 1)), "threads x lanes"
 
@@ -101,8 +102,8 @@ def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[Gpu
     out["speedup"] = [speedup(r, t) for r, t in zip(out["ref_median"], out["median"])]
     out["speedup_low"] = [speedup(r, t) for r, t in zip(out["ref_ci_low"], out["ci_high"])]
     out["speedup_high"] = [speedup(r, t) for r, t in zip(out["ref_ci_high"], out["ci_low"])]
-    p = [processors(int(t), int(lanes), d, logical_cores, estimates, gpu_override)
-         for t, lanes, d in zip(out[names.THREADS], out[names.LANES], out[names.DEVICE])]
+    p = [processors(r, int(t), int(lanes), d, logical_cores, estimates, gpu_override)
+         for r, t, lanes, d in zip(out[names.RENDERER], out[names.THREADS], out[names.LANES], out[names.DEVICE])]
     out["p"] = [v for v, _ in p]
     out["p_source"] = [s for _, s in p]
     out["karp_flatt"] = [karp_flatt(s, pv) for s, pv in zip(out["speedup"], out["p"])]

@@ -68,8 +68,6 @@ GIT_DIRTY = "git_dirty"
 CONFIG_KEYS = [SCENE, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,
                DEVICE, BUILD_TYPE]
 
-# The schema's `lanes` column: "1 for scalar renderers, 0 for gpu".
-GPU_LANES = 0
 # The schema's `early_exit` column: "'+'-joined ... or 'none'".
 EARLY_EXIT_SEPARATOR = "+"
 NO_EARLY_EXIT = "none"
@@ -114,6 +112,16 @@ def accepts(renderer: str, option: str) -> bool:
 def renders_on_cpu(renderer: str) -> bool:
     """True for the CPU renderers; False for those that render on a Vulkan device."""
     return schema.renderers()[renderer]["backend"] == CPU_BACKEND
+
+
+# The renderer options that a configuration's label shows (all of them are in
+# the summary table), where its renderer takes them.
+LABEL_OPTIONS = (THREADS, LANES)
+
+
+def label_options(row) -> list[tuple[str, int]]:
+    """(option, value) of the LABEL_OPTIONS that the row's renderer takes, per the schema."""
+    return [(option, row[option]) for option in LABEL_OPTIONS if accepts(row[RENDERER], option)]
 
 
 def stage_of(algorithm: str, early_exit: str) -> str:

@@ -57,16 +57,8 @@ def _ordered(values, order) -> list:
 
 
 def _renderer_label(row) -> str:
-    """Renderer plus the axes that distinguish its configurations."""
-    label = row[names.RENDERER]
-    if row[names.LANES] == names.GPU_LANES:
-        return label
-    extras = []
-    if row[names.THREADS] > 1:
-        extras.append(f"t{row[names.THREADS]}")
-    if row[names.LANES] > 1:
-        extras.append(f"l{row[names.LANES]}")
-    return f"{label} {' '.join(extras)}" if extras else label
+    """Renderer plus the threads and lanes where it takes them: 'simd_tbb t8 l16'."""
+    return " ".join([row[names.RENDERER], *(f"{option[0]}{value}" for option, value in names.label_options(row))])
 
 
 def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:

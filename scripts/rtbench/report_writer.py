@@ -274,7 +274,7 @@ def _what_ran(inputs: ReportInputs, results: ReportResults) -> str:
                  f"({', '.join(map(str, sorted(set(frames[names.LOGICAL_CORES]))))} logical cores) |")
     devices = sorted({d for d in frames[names.DEVICE] if d})
     if devices:
-        lines.append(f"| GPU device | {', '.join(devices)} |")
+        lines.append(f"| Vulkan device | {', '.join(devices)} |")
     commits = sorted({f"{c[:12]}{' (dirty)' if d else ''}" for c, d in zip(frames[names.GIT_COMMIT], frames[names.GIT_DIRTY])})
     lines.append(f"| build | {', '.join(sorted(set(frames[names.BUILD_TYPE])))}, commit {', '.join(commits)} |")
     s = results.summary

@@ -153,13 +153,10 @@ def coefficient_of_variation(values) -> float:
 
 
 def config_label(row) -> str:
-    """scene/renderer/stage[/tN][/lN]: a configuration's name in warnings."""
-    text = f"{row[names.SCENE]}/{row[names.RENDERER]}/{row[names.STAGE]}"
-    if row[names.THREADS] > 1:
-        text += f"/t{row[names.THREADS]}"
-    if row[names.LANES] > 1:
-        text += f"/l{row[names.LANES]}"
-    return text
+    """scene/renderer/stage[/tN][/lN]: a configuration's name in warnings, with
+    the threads and lanes where its renderer takes them."""
+    options = "".join(f"/{option[0]}{value}" for option, value in names.label_options(row))
+    return f"{row[names.SCENE]}/{row[names.RENDERER]}/{row[names.STAGE]}{options}"
 
 
 def sort_configs(df: pd.DataFrame) -> pd.DataFrame:

@@ -132,15 +132,12 @@ def _lookup(df: pd.DataFrame, **match) -> pd.Series | None:
 
 
 def _describe_config(row: pd.Series) -> str:
-    parts = []
-    if row[names.LANES] == names.GPU_LANES:
-        parts.append(row[names.DEVICE] or "device unknown")
-    else:
-        if row[names.THREADS] > 1:
-            parts.append(f"{row[names.THREADS]} threads")
-        if row[names.LANES] > 1:
-            parts.append(f"{row[names.LANES]} lanes {row[names.SIMD_TARGET]}".strip())
-    return ", ".join(parts)
+    """'8 threads, 4 lanes NEON' for a CPU renderer (what it takes), the device for the others."""
+    if not names.renders_on_cpu(row[names.RENDERER]):
+        return row[names.DEVICE] or "device unknown"
+    parts = [f"{value} {option}" for option, value in names.label_options(row)]
+    target = [row[names.SIMD_TARGET]] if names.accepts(row[names.RENDERER], names.LANES) else []
+    return " ".join([", ".join(parts), *target]).strip()
 
 
 # --- builders ----------------------------------------------------------------------
@@ -240,7 +237,12 @@ CONFIG_HEADERS = ["stage", "scene", "renderer", "size", "threads", "lanes", "tar
 def _config_cells(d: dict) -> list[str]:
     """A configuration row's CONFIG_HEADERS cells."""
     return [d[names.STAGE], d[names.SCENE], d[names.RENDERER], f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
-            fmt_int(d[names.THREADS]), fmt_int(d[names.LANES]), d[names.SIMD_TARGET] or d[names.DEVICE] or ""]
+            fmt_int(d[names.THREADS]), fmt_int(d[names.LANES]), _target_or_device(d)]
+
+
+def _target_or_device(d: dict) -> str:
+    """A CPU renderer's SIMD target (empty for scalar ones), else the device it rendered on."""
+    return d[names.SIMD_TARGET] if names.renders_on_cpu(d[names.RENDERER]) else d[names.DEVICE]
 
 
 def metrics_our(metrics: pd.DataFrame) -> Table:

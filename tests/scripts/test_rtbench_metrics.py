@@ -50,15 +50,16 @@ def test_table_layout_comes_from_the_thesis_data():
 
 def test_processors_from_metadata_and_gpu_estimates():
     est = metrics.load_gpu_estimates()
-    assert metrics.processors(2, 16, "", 2, est) == (32.0, "threads x lanes")
-    assert metrics.processors(1, 1, "", 2, est)[0] == 1.0
-    assert metrics.processors(1, 0, "Apple M1", 8, est)[0] == 1024.0
-    assert metrics.processors(1, 0, "llvmpipe (LLVM 15.0.6, 256 bits)", 2, est)[0] == 16.0
-    assert metrics.processors(1, 0, "NVIDIA H100 PCIe", 16, est)[0] == 14592.0
-    assert metrics.processors(1, 0, "NVIDIA H100 80GB HBM3", 16, est)[0] == 16896.0
-    p, why = metrics.processors(1, 0, "Some Future GPU", 2, est)
+    # A CPU renderer's p comes from its configuration even where it presented on a device.
+    assert metrics.processors("simd_tbb", 2, 16, "Apple M1", 2, est) == (32.0, "threads x lanes")
+    assert metrics.processors("sequential", 1, 1, "", 2, est)[0] == 1.0
+    assert metrics.processors("gpu", 0, 0, "Apple M1", 8, est)[0] == 1024.0
+    assert metrics.processors("gpu", 0, 0, "llvmpipe (LLVM 15.0.6, 256 bits)", 2, est)[0] == 16.0
+    assert metrics.processors("gpu", 0, 0, "NVIDIA H100 PCIe", 16, est)[0] == 14592.0
+    assert metrics.processors("gpu", 0, 0, "NVIDIA H100 80GB HBM3", 16, est)[0] == 16896.0
+    p, why = metrics.processors("gpu", 0, 0, "Some Future GPU", 2, est)
     assert math.isnan(p) and "--gpu-p" in why
-    assert metrics.processors(1, 0, "Some Future GPU", 2, est, gpu_override=4096) == (4096.0, "--gpu-p")
+    assert metrics.processors("gpu", 0, 0, "Some Future GPU", 2, est, gpu_override=4096) == (4096.0, "--gpu-p")
 
 
 def _scaling_summary():
