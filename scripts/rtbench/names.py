@@ -81,8 +81,9 @@ RENDERER_OPTIONS: dict[str, list[str]] = {r: schema.accepted_options(r) for r in
 LANE_WIDTHS: list[int] = schema.lane_widths()
 PARTITIONS: list[str] = list(schema.schema()["partitions"])
 PRESENT_MODES: list[str] = schema.present_modes()
-# The schema's renderers[].backend of the renderers that run on the CPU; the
-# others render on a Vulkan device.
+# Each renderer's backend; "cpu" is the schema's backend of the renderers
+# that run on the CPU, the others render on a Vulkan device.
+BACKENDS: dict[str, str] = {name: r["backend"] for name, r in schema.renderers().items()}
 CPU_BACKEND = "cpu"
 STAGES: dict[str, dict] = schema.stages()
 ALGORITHMS: list[str] = list(schema.schema()["algorithms"])
@@ -111,7 +112,7 @@ def accepts(renderer: str, option: str) -> bool:
 
 def renders_on_cpu(renderer: str) -> bool:
     """True for the CPU renderers; False for those that render on a Vulkan device."""
-    return schema.renderers()[renderer]["backend"] == CPU_BACKEND
+    return BACKENDS[renderer] == CPU_BACKEND
 
 
 # The renderer options that a configuration's label shows (all of them are in
