@@ -39,6 +39,7 @@ PARTITION = _column("partition")
 DEVICE = _column("device")
 ALGORITHM = _column("algorithm")
 EARLY_EXIT = _column("early_exit")
+ACCEL = _column("accel")
 WIDTH = _column("width")
 HEIGHT = _column("height")
 FRAME = _column("frame")
@@ -65,7 +66,7 @@ GIT_COMMIT = "git_commit"
 GIT_DIRTY = "git_dirty"
 
 # The columns that identify one configuration in the tidy frame.
-CONFIG_KEYS = [SCENE, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,
+CONFIG_KEYS = [SCENE, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, ACCEL, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,
                DEVICE, BUILD_TYPE]
 
 # The schema's `early_exit` column: "'+'-joined ... or 'none'".
@@ -88,6 +89,9 @@ CPU_BACKEND = "cpu"
 STAGES: dict[str, dict] = schema.stages()
 ALGORITHMS: list[str] = list(schema.schema()["algorithms"])
 EARLY_EXITS: list[str] = list(schema.schema()["early_exits"])
+ACCELS: list[str] = [a["name"] for a in schema.schema()["accels"]]
+# The accel of brute force (the thesis' algorithm, and the default).
+BRUTE_FORCE: str = ACCELS[0]
 CSV_COLUMNS: list[str] = schema.frame_csv_columns()
 COLUMN_TYPES: dict[str, str] = {c["name"]: c["type"] for c in schema.schema()["frame_csv"]}
 SCHEMA_VERSION: int = schema.schema()["version"]

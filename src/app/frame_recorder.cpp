@@ -43,6 +43,7 @@ void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id,
       return;
     case FrameCsvColumn::algorithm: return appendText(out, nameOf(id.options.algorithm));
     case FrameCsvColumn::early_exit: return appendText(out, id.options.earlyExits.toString());
+    case FrameCsvColumn::accel: return appendText(out, nameOf(id.options.accel));
     case FrameCsvColumn::width: return appendText(out, std::to_string(id.extent.width));
     case FrameCsvColumn::height: return appendText(out, std::to_string(id.extent.height));
     case FrameCsvColumn::present: return appendText(out, nameOf(id.present));

@@ -46,7 +46,7 @@ std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) 
   return std::string(rt::nameOf(id.renderer.kind)) + " scene=" + id.scene + " " + std::to_string(id.extent.width) + "x" +
          std::to_string(id.extent.height) + " threads=" + std::to_string(id.renderer.threads) +
          " lanes=" + std::to_string(id.renderer.lanes) + " target=" + id.renderer.simdTarget +
-         " algorithm=" + std::string(rt::nameOf(id.options.algorithm)) + " early_exit=" + id.options.earlyExits.toString() +
+         " algorithm=" + std::string(rt::nameOf(id.options.algorithm)) + " early_exit=" + id.options.earlyExits.toString() + " accel=" + std::string(rt::nameOf(id.options.accel)) +
          " frames=" + std::to_string(config.warmupFrames) + "+" + std::to_string(config.measuredFrames) +
          " present=" + std::string(rt::nameOf(id.present)) + (id.device ? " device=" + id.device->name : "");
 }
@@ -94,6 +94,7 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
   TracyMessage(description.data(), description.size());
   const rt::FrameLoopResult result = rt::runFrameLoop(*renderer, scene, config);
   times.finishedAt = std::chrono::system_clock::now();
+  identity.renderer = renderer->info();  // now with what prepare() built
 
   // Frames that completed are written even when a later one failed.
   writeOutputs(config, identity, scene, result, times);

@@ -83,12 +83,19 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
           {"partition", id.renderer.partition ? nameOf(*id.renderer.partition) : ""},
           {"algorithm", nameOf(id.options.algorithm)},
           {"early_exit", id.options.earlyExits.toString()},
+          {"accel", nameOf(id.options.accel)},
           {"width", id.extent.width},
           {"height", id.extent.height},
           {"warmup_frames", config.warmupFrames},
           {"measured_frames", config.measuredFrames},
           {"present", nameOf(id.present)},
           {"present_reason", id.presentReason}};
+}
+
+nlohmann::json accelStructureJson(const RendererInfo& renderer) {
+  if (!renderer.accelStructure) return nullptr;
+  const AccelStructureInfo& a = *renderer.accelStructure;
+  return {{"kind", nameOf(a.kind)}, {"build_ms", a.buildMs}, {"nodes", a.nodes}, {"depth", a.depth}};
 }
 
 nlohmann::json deviceJson(const RunIdentity& id) {
@@ -164,6 +171,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::started_at: value = formatRfc3339(times.startedAt); break;
       case RunMetadataKey::finished_at: value = formatRfc3339(times.finishedAt); break;
       case RunMetadataKey::outputs: value = outputsJson(config); break;
+      case RunMetadataKey::accel_structure: value = accelStructureJson(identity.renderer); break;
       case RunMetadataKey::device: value = deviceJson(identity); break;
     }
   }

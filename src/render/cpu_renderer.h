@@ -13,8 +13,9 @@
 
 namespace rt {
 
-// Kernel: kId, lanes(), simdTarget(), alignment(), prepare(scene, options,
-// slots), beginFrame(camera, image), renderSpan(slot, y, x0, x1).
+// Kernel: kId, lanes(), simdTarget(), alignment(), accelStructure(),
+// prepare(scene, options, slots), beginFrame(camera, image),
+// renderSpan(slot, y, x0, x1).
 // Scheduler: kId, threads(), grain(), partition(),
 // forEachSpan(extent, alignment, body(slot, y, x0, x1)).
 // The per-span call is a template, inlined: no virtual call in the frame.
@@ -31,7 +32,7 @@ class CpuRenderer final : public Renderer {
 
   [[nodiscard]] RendererInfo info() const override {
     return {kKind, scheduler_.threads(), kernel_.lanes(), kernel_.simdTarget(), scheduler_.grain(),
-            scheduler_.partition()};
+            scheduler_.partition(), kernel_.accelStructure()};
   }
 
   void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override {

@@ -16,6 +16,14 @@ class RendererUnavailable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The acceleration structure prepare() built (metadata: accel_structure).
+struct AccelStructureInfo {
+  Accel kind = Accel::bvh;
+  double buildMs = 0.0;
+  std::size_t nodes = 0;
+  int depth = 0;
+};
+
 // How a renderer runs, as recorded in every CSV row and the metadata.
 struct RendererInfo {
   RendererKind kind = RendererKind::sequential;
@@ -25,6 +33,8 @@ struct RendererInfo {
   // How oneTBB splits the frame; empty for renderers that do not use it.
   std::optional<int> grain;
   std::optional<Partition> partition;
+  // Known after prepare(); empty with --accel none.
+  std::optional<AccelStructureInfo> accelStructure{};
 };
 
 // One of the thesis' interchangeable renderers. The interface is virtual

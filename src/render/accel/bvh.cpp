@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <limits>
 #include <stdexcept>
 
 #include <glm/common.hpp>
+
+#include "core/profiler.h"
 
 namespace rt {
 namespace {
@@ -165,8 +168,12 @@ class Builder {
 }  // namespace
 
 Bvh buildBvh(std::span<const Sphere> spheres) {
+  ZoneScopedN("BVH build");
   if (spheres.empty()) throw std::invalid_argument("a BVH needs at least one sphere");
-  return Builder(spheres).build();
+  const auto start = std::chrono::steady_clock::now();
+  Bvh bvh = Builder(spheres).build();
+  bvh.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return bvh;
 }
 
 }  // namespace rt

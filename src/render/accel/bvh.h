@@ -6,11 +6,13 @@
 // time.
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "render/renderer.h"
 #include "scene/scene.h"
 
 namespace rt {
@@ -35,6 +37,7 @@ struct Bvh {
   int depth = 0;                     // levels below the root, for sizing traversal stacks
   float maxRadius = 0.0f;            // of any sphere, and the largest |coordinate| of
   float maxCoordinate = 0.0f;        // any sphere's bounds: they size traversalPad()
+  double buildMs = 0.0;              // wall time of buildBvh()
 };
 
 // How far a box must be widened, in space and along the ray, so that no
@@ -55,5 +58,28 @@ inline constexpr std::uint32_t kBvhMaxLeafSize = 4;
 // Builds the hierarchy over `spheres` (at least one). Deterministic: the
 // same spheres give the same tree.
 Bvh buildBvh(std::span<const Sphere> spheres);
+
+}  // namespace rt
+
+namespace rt {
+
+// What a kernel holds for the --accel option: nothing for brute force, the
+// BVH for bvh, rebuilt by every prepare().
+class AccelStructure {
+ public:
+  void prepare(std::span<const Sphere> spheres, Accel accel) {
+    bvh_.reset();
+    if (accel == Accel::bvh) bvh_ = buildBvh(spheres);
+  }
+  // Null for brute force.
+  [[nodiscard]] const Bvh* bvh() const { return bvh_ ? &*bvh_ : nullptr; }
+  [[nodiscard]] std::optional<AccelStructureInfo> info() const {
+    if (!bvh_) return std::nullopt;
+    return AccelStructureInfo{Accel::bvh, bvh_->buildMs, bvh_->nodes.size(), bvh_->depth};
+  }
+
+ private:
+  std::optional<Bvh> bvh_;
+};
 
 }  // namespace rt

@@ -6,8 +6,8 @@ namespace rt {
 
 void ScalarKernel::prepare(const Scene& scene, const RenderOptions& options, int /*slots*/) {
   inputs_ = kernel::ShadingInputs<float>::from(scene);
-  bvh_ = options.accel == Accel::bvh ? buildBvh(scene.spheres) : Bvh{};
-  if (options.accel == Accel::bvh) inputs_.bvh = &bvh_;
+  accel_.prepare(scene.spheres, options.accel);
+  inputs_.bvh = accel_.bvh();
   visitScalarVariant(options, [&]<Algorithm kAlgorithm, bool kBounce>() {
     span_ = &renderScalarSpan<float, kAlgorithm, kBounce>;
   });

@@ -24,6 +24,7 @@ class ScalarKernel {
   [[nodiscard]] std::string simdTarget() const { return {}; }
   // A span may start at any pixel.
   [[nodiscard]] int alignment() const { return 1; }
+  [[nodiscard]] std::optional<AccelStructureInfo> accelStructure() const { return accel_.info(); }
 
   // Converts the scene's inputs, builds the BVH with --accel bvh, and picks
   // the variant the options select; `slots` (worker threads) needs no scratch.
@@ -43,7 +44,7 @@ class ScalarKernel {
                                 int x1, std::span<Rgba8> row);
 
   kernel::ShadingInputs<float> inputs_{};
-  Bvh bvh_;  // --accel bvh only
+  AccelStructure accel_;
   SpanFunction span_ = nullptr;
   CameraFrame camera_{};
   Image* frame_ = nullptr;

@@ -46,8 +46,8 @@ SimdKernel::SimdKernel(const ParallelSettings& settings)
 
 void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int slots) {
   prepareSpheres(scene);
-  bvh_ = options.accel == Accel::bvh ? buildBvh(scene.spheres) : Bvh{};
-  params_.spheres.bvh = options.accel == Accel::bvh ? &bvh_ : nullptr;
+  accel_.prepare(scene.spheres, options.accel);
+  params_.spheres.bvh = accel_.bvh();
   prepareScratch(scene.render.maxDepth, slots);
   setSceneParams(params_, scene);
   kernel_ = kernels_.variants[KernelVariant::of(options).index()];

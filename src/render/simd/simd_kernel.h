@@ -35,6 +35,7 @@ class SimdKernel {
   [[nodiscard]] std::string simdTarget() const { return simd::targetName(target_.target); }
   // A span starts at a multiple of the packet width.
   [[nodiscard]] int alignment() const { return kernels_.lanes; }
+  [[nodiscard]] std::optional<AccelStructureInfo> accelStructure() const { return accel_.info(); }
 
   // The spheres as arrays (and their BVH with --accel bvh), the scene's
   // light and shading, the variant the options select, and two-pass
@@ -61,7 +62,7 @@ class SimdKernel {
   simd::FrameParams params_{};         // scene parts set in prepare(), camera per frame
 
   std::vector<float> sphereData_;  // SoA: 8 arrays of sphereCount floats each
-  Bvh bvh_;                        // --accel bvh only
+  AccelStructure accel_;
   std::vector<CacheLine> scratch_;  // one slot per thread for the two-pass forward pass
   std::size_t scratchLinesPerSlot_ = 0;
 };
