@@ -16,7 +16,7 @@ which the commands of scripts/ wrap: `scripts/bench`, `scripts/report.py`,
 - bench:         the bench command: profile -> runs -> report
 - load:          run directories -> one tidy pandas DataFrame, with clear errors
 - stats:         median, MAD, bootstrap CI, percentiles, modified z-score outliers
-- metrics:       speedup, Karp-Flatt, processor counts
+- metrics:       speedup, Karp-Flatt, processor counts, cost vs spheres (power-law fits)
 - thesis:        the thesis' published numbers and what they recompute to
 - tables:        Markdown and LaTeX tables
 - plots:         matplotlib (Agg) figures, PNG and SVG

@@ -212,6 +212,7 @@ def resolve_binary(args: argparse.Namespace, profile: profiles.Profile) -> Path 
 def run_profile(args, profile, configs, order, binary: Path) -> int:
     """Runs the schedule into a new run directory and reports on it."""
     run_dir = runner.make_run_dir(args.runs_dir, profile.name)
+    configs, order = _place_scenes(configs, order, run_dir)
     manifest = runner.Manifest(profile, configs, runner.plan_runs(order, binary, run_dir), str(binary),
                                args.command_line, runner.host_info(),
                                machine_warnings(), started_at=runner.utc_now())
@@ -233,6 +234,14 @@ def run_profile(args, profile, configs, order, binary: Path) -> int:
     finally:
         signal.signal(signal.SIGTERM, previous)
     return finish(args, manifest, run_dir, completed)
+
+
+def _place_scenes(configs, order, run_dir: Path):
+    """The configurations and the schedule with the generated scenes written
+    into the run directory (profiles.GENERATED_SCENES)."""
+    placed = runner.write_generated_scenes(configs, run_dir, sys.stdout)
+    by_id = {c.id: c for c in placed}
+    return placed, [(rep, by_id[c.id]) for rep, c in order]
 
 
 def _raise_interrupt(signum, frame):

@@ -150,6 +150,7 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     build = meta.get(names.META_BUILD) or {}
     host = meta.get(names.META_HOST) or {}
     frames[names.STAGE] = [names.stage_of(a, e) for a, e in zip(frames[names.ALGORITHM], frames[names.EARLY_EXIT])]
+    frames[names.SPHERES] = _sphere_count(meta_path, meta)
     frames[names.REPETITION] = repetition
     frames[names.CONFIG_ID] = config_id
     frames[names.BUILD_TYPE] = str(build.get("build_type", ""))
@@ -159,6 +160,15 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     frames[names.GIT_DIRTY] = bool(build.get(names.GIT_DIRTY, False))
     frames[names.SOURCE] = source
     return frames
+
+
+def _sphere_count(meta_path: Path, meta: dict) -> int:
+    """The scene's sphere count from the metadata (0 where a sidecar lacks it)."""
+    count = (meta.get(names.META_SCENE) or {}).get(names.META_SCENE_SPHERES, 0)
+    if not isinstance(count, int) or isinstance(count, bool) or count < 0:
+        raise RunDataError(f"{meta_path}: {names.META_SCENE}.{names.META_SCENE_SPHERES} must be a sphere count, "
+                           f"not {count!r}")
+    return count
 
 
 def _check_against_meta(csv_path: Path, meta_path: Path, columns: dict, meta: dict) -> None:

@@ -18,6 +18,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from rtbench import names
@@ -77,9 +78,14 @@ def processors(renderer: str, threads: int, lanes: int, device: str, logical_cor
     return float(threads * max(lanes, 1)), "threads x lanes"
 
 
+# What a speedup compares at: the same work (scene, stage, accel, image size)
+# and build.
+SPEEDUP_KEYS = [names.SCENE, names.STAGE, names.ACCEL, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+
+
 def reference_rows(summary: pd.DataFrame, reference: str) -> pd.DataFrame:
-    """The reference renderer's rows, one per (scene, stage, size, build)."""
-    keys = [names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    """The reference renderer's rows, one per SPEEDUP_KEYS."""
+    keys = SPEEDUP_KEYS
     ref = summary[summary[names.RENDERER] == reference]
     return ref.sort_values(names.THREADS).drop_duplicates(keys)[[*keys, "median", "ci_low", "ci_high"]]
 
@@ -87,11 +93,11 @@ def reference_rows(summary: pd.DataFrame, reference: str) -> pd.DataFrame:
 def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[GpuEstimate],
                   gpu_override: float | None = None, reference: str | None = None) -> pd.DataFrame:
     """Speedup, p and Karp-Flatt for every non-reference configuration that has
-    a reference run at the same scene, stage, size and build. The speedup's
-    range divides the reference's bootstrap CI by the configuration's (a
-    conservative interval, not a CI of its own)."""
+    a reference run at the same scene, stage, accel, size and build. The
+    speedup's range divides the reference's bootstrap CI by the
+    configuration's (a conservative interval, not a CI of its own)."""
     reference = reference or names.reference_renderer()
-    keys = [names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    keys = SPEEDUP_KEYS
     ref = reference_rows(summary, reference).rename(
         columns={"median": "ref_median", "ci_low": "ref_ci_low", "ci_high": "ref_ci_high"})
     rows = summary[summary[names.RENDERER] != reference].merge(ref, on=keys, how="inner")
@@ -111,10 +117,10 @@ def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[Gpu
 
 
 def scaling_table(summary: pd.DataFrame) -> pd.DataFrame:
-    """Strong scaling: for each renderer / lanes / scene / stage / size with
-    more than one thread count, S(t) = T(fewest threads) / T(t) x fewest."""
-    keys = [names.SCENE, names.STAGE, names.RENDERER, names.LANES, names.SIMD_TARGET, names.WIDTH, names.HEIGHT,
-            names.DEVICE, names.BUILD_TYPE]
+    """Strong scaling: for each renderer / lanes / scene / stage / accel / size
+    with more than one thread count, S(t) = T(fewest threads) / T(t) x fewest."""
+    keys = [names.SCENE, names.STAGE, names.ACCEL, names.RENDERER, names.LANES, names.SIMD_TARGET, names.WIDTH,
+            names.HEIGHT, names.DEVICE, names.BUILD_TYPE]
     parts = []
     for _, group in summary.groupby(keys, sort=False, dropna=False):
         if group[names.THREADS].nunique() < 2:
@@ -128,3 +134,58 @@ def scaling_table(summary: pd.DataFrame) -> pd.DataFrame:
     if not parts:
         return pd.DataFrame(columns=[*summary.columns, "scaling_speedup", "efficiency"])
     return pd.concat(parts, ignore_index=True)
+
+
+# --- cost vs spheres ---------------------------------------------------------------
+
+# A configuration but for its scene: the points of one cost-vs-spheres curve.
+CURVE_KEYS = [k for k in names.CONFIG_KEYS if k not in (names.SCENE, names.SPHERES)]
+# A curve needs this many distinct sphere counts before its exponent is fitted.
+MIN_SPHERE_COUNTS = 3
+CURVE = "curve"
+
+
+def power_law_fit(spheres, ms) -> tuple[float, float, float]:
+    """The least-squares line through (log N, log ms), i.e. ms = c N^k:
+    (k, c, r^2 of the line in log-log space). NaNs for fewer than two
+    distinct N."""
+    x, y = np.log(np.asarray(spheres, dtype=float)), np.log(np.asarray(ms, dtype=float))
+    if x.size < 2 or np.ptp(x) == 0:
+        return math.nan, math.nan, math.nan
+    k, log_c = np.polyfit(x, y, 1)
+    residual = float(np.sum((y - (k * x + log_c)) ** 2))
+    spread = float(np.sum((y - y.mean()) ** 2))
+    r2 = 1.0 - residual / spread if spread > 0 else 1.0
+    return float(k), float(math.exp(log_c)), r2
+
+
+def sphere_curves(summary: pd.DataFrame, min_counts: int = MIN_SPHERE_COUNTS) -> pd.DataFrame:
+    """The summary rows that lie on a cost-vs-spheres curve: configurations
+    equal but for the scene, with a positive median on at least `min_counts`
+    distinct sphere counts. Column `curve` numbers the curves 0, 1, ...; rows
+    sorted by curve, then sphere count."""
+    usable = summary[(summary[names.SPHERES] > 0) & (summary["median"] > 0)]
+    parts = []
+    for _, group in usable.groupby(CURVE_KEYS, sort=False, dropna=False):
+        if group[names.SPHERES].nunique() >= min_counts:
+            parts.append(group.sort_values([names.SPHERES, names.SCENE]).assign(**{CURVE: len(parts)}))
+    if not parts:
+        return pd.DataFrame(columns=[*summary.columns, CURVE])
+    return pd.concat(parts, ignore_index=True)
+
+
+def cost_fits(curves: pd.DataFrame) -> pd.DataFrame:
+    """One row per curve of sphere_curves: its CURVE_KEYS, the sphere counts
+    and medians at both ends, and the fitted exponent k of median render_ms
+    = c N^k (1: the cost grows with the sphere count; 0: not at all)."""
+    rows = []
+    for curve, group in curves.groupby(CURVE, sort=True):
+        k, c, r2 = power_law_fit(group[names.SPHERES], group["median"])
+        first, last = group.iloc[0], group.iloc[-1]
+        rows.append({CURVE: curve, **{key: first[key] for key in CURVE_KEYS},
+                     "counts": int(group[names.SPHERES].nunique()), "spheres_min": int(first[names.SPHERES]),
+                     "spheres_max": int(last[names.SPHERES]), "ms_min": first["median"], "ms_max": last["median"],
+                     "exponent": k, "coefficient": c, "r2": r2})
+    columns = [CURVE, *CURVE_KEYS, "counts", "spheres_min", "spheres_max", "ms_min", "ms_max", "exponent",
+               "coefficient", "r2"]
+    return pd.DataFrame(rows, columns=columns)

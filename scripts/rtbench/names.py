@@ -53,9 +53,12 @@ META_BUILD = _meta_key("build")
 META_HOST = _meta_key("host")
 META_SCENE = _meta_key("scene")
 META_RUN_ID = _meta_key("run_id")
+# In the metadata's scene object: the scene's sphere count.
+META_SCENE_SPHERES = "spheres"
 
 # Columns the loader adds to the schema's columns (not in the CSV files).
 STAGE = "stage"
+SPHERES = "spheres"  # the scene's sphere count, from the metadata
 REPETITION = "repetition"
 CONFIG_ID = "config_id"
 BUILD_TYPE = "build_type"
@@ -66,7 +69,7 @@ GIT_COMMIT = "git_commit"
 GIT_DIRTY = "git_dirty"
 
 # The columns that identify one configuration in the tidy frame.
-CONFIG_KEYS = [SCENE, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, ACCEL, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,
+CONFIG_KEYS = [SCENE, SPHERES, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, ACCEL, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,
                DEVICE, BUILD_TYPE]
 
 # The schema's `early_exit` column: "'+'-joined ... or 'none'".
@@ -129,6 +132,12 @@ def label_options(row) -> list[tuple[str, int]]:
     return [(option, row[option]) for option in LABEL_OPTIONS if accepts(row[RENDERER], option)]
 
 
+def accel_tag(row) -> list[str]:
+    """[accel] where a configuration does not search by brute force (the
+    thesis' algorithm, which labels leave unsaid), else []."""
+    return [] if row[ACCEL] == BRUTE_FORCE else [row[ACCEL]]
+
+
 def stage_of(algorithm: str, early_exit: str) -> str:
     """The thesis stage that (algorithm, early exits) amount to, per the schema's
     stages list; combinations outside it get a descriptive label so ablation
@@ -149,3 +158,8 @@ def stage_order(stage: str) -> int:
 def renderer_order(renderer: str) -> int:
     """Sort key: renderers in schema order, unknown ones last."""
     return RENDERERS.index(renderer) if renderer in RENDERERS else len(RENDERERS)
+
+
+def accel_order(accel: str) -> int:
+    """Sort key: accels in schema order (brute force first), unknown ones last."""
+    return ACCELS.index(accel) if accel in ACCELS else len(ACCELS)

@@ -17,7 +17,7 @@ import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from rtbench import atomic, names, stats  # noqa: E402
+from rtbench import atomic, metrics, names, stats  # noqa: E402
 
 FORMATS = ("png", "svg")
 # Stable SVG ids and no timestamps: the same data give byte-identical files.
@@ -57,8 +57,14 @@ def _ordered(values, order) -> list:
 
 
 def _renderer_label(row) -> str:
-    """Renderer plus the threads and lanes where it takes them: 'simd_tbb t8 l16'."""
-    return " ".join([row[names.RENDERER], *(f"{option[0]}{value}" for option, value in names.label_options(row))])
+    """Renderer plus the threads and lanes where it takes them, and the accel
+    where it is not brute force: 'simd_tbb t8 l16', 'simd_tbb t8 l16 bvh'."""
+    return " ".join([row[names.RENDERER], *_option_texts(row), *names.accel_tag(row)])
+
+
+def _option_texts(row) -> list[str]:
+    """The threads and lanes where the row's renderer takes them: ['t8', 'l16']."""
+    return [f"{option[0]}{value}" for option, value in names.label_options(row)]
 
 
 def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
@@ -103,12 +109,13 @@ def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
     if scaling.empty:
         return []
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    keys = [names.RENDERER, names.LANES, names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT]
+    keys = [names.RENDERER, names.LANES, names.ACCEL, names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT]
     for key, group in scaling.groupby(keys, sort=False):
-        renderer, lanes, scene, stage, w, h = key
+        renderer, lanes, accel, scene, stage, w, h = key
         lane_text = f" l{lanes}" if lanes > 1 else ""
+        accel_text = "".join(f" {tag}" for tag in names.accel_tag(group.iloc[0]))
         ax.plot(group[names.THREADS], group["scaling_speedup"], marker="o",
-                label=f"{renderer}{lane_text} {scene} {stage}")
+                label=f"{renderer}{lane_text}{accel_text} {scene} {stage}")
     top = int(scaling[names.THREADS].max())
     ax.plot([1, top], [1, top], "k--", linewidth=1, label="ideal")
     ax.set_xlabel("threads")
@@ -214,3 +221,42 @@ def thesis_speedups(side: pd.DataFrame, stem: Path) -> list[Path]:
     ax.grid(axis="y", alpha=0.3, which="both")
     ax.legend()
     return save(fig, stem)
+
+
+# Markers of the accels in the cost-vs-spheres figure, in schema order.
+ACCEL_MARKERS = "osD^v"
+
+
+def cost_vs_spheres(curves: pd.DataFrame, fits: pd.DataFrame, stem: Path) -> list[Path]:
+    """Median render_ms vs sphere count, log-log, one line per configuration
+    that ran on several sphere counts (metrics.sphere_curves), its fitted
+    power law dashed and its exponent k in the legend."""
+    if fits.empty:
+        return []
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    colors = plt.get_cmap("tab10")
+    label_keys = _varying(fits, [names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE])
+    for i, fit in enumerate(fits.itertuples(index=False)):
+        fit = fit._asdict()
+        points = curves[curves[metrics.CURVE] == fit[metrics.CURVE]]
+        color = colors(i % 10)
+        marker = ACCEL_MARKERS[names.accel_order(fit[names.ACCEL]) % len(ACCEL_MARKERS)]
+        label = " ".join([fit[names.RENDERER], *_option_texts(fit), fit[names.ACCEL],
+                          *(str(fit[key]) for key in label_keys)])
+        ax.plot(points[names.SPHERES], points["median"], marker=marker, linestyle="none", color=color,
+                label=f"{label}: k = {fit['exponent']:.2f}")
+        n = np.geomspace(fit["spheres_min"], fit["spheres_max"], 32)
+        ax.plot(n, fit["coefficient"] * n ** fit["exponent"], linestyle="--", linewidth=1, color=color)
+    ax.set_xscale("log")
+    _log_y(ax, curves["median"], pad=1.4)
+    ax.set_xlabel("spheres N (log scale)")
+    ax.set_ylabel("render_ms per frame (median, log scale)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, title="dashed: fit ms = c N^k", title_fontsize=7)
+    ax.set_title(f"Cost vs spheres ({_size_text(curves)})")
+    return save(fig, stem)
+
+
+def _varying(df: pd.DataFrame, keys: list[str]) -> list[str]:
+    """The keys whose value differs between rows: what a label must show."""
+    return [key for key in keys if df[key].nunique(dropna=False) > 1]

@@ -2,11 +2,15 @@
 profiles/README.md) and their expansion into configurations and a schedule.
 
 A profile names scenes, stages (or explicit algorithm / early-exit sets),
+accels (how a ray finds its nearest sphere: the schema's accels),
 renderers with their own axes (the renderer options the schema gives each,
 of threads, lanes, grain and partition; and device, present), the image
 size, warm-up and measured frames, repetitions and the interleaving. Every
 key is checked against one table of rules (TOP_RULES and the others below).
-Everything here is pure: reading the TOML is the only I/O.
+Everything here is pure: reading the TOML is the only I/O. A scene that
+scenes/ lacks but the generator makes (`randomN`) resolves to a path under
+GENERATED_SCENES, a stand-in for the run directory that the bench runner
+replaces when it writes the scene there.
 """
 
 from __future__ import annotations
@@ -19,12 +23,17 @@ import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from rtbench import names
+from rtbench import names, scenes
 
 PROFILES_DIR = names.REPO_ROOT / "profiles"
 SCENES_DIR = names.REPO_ROOT / "scenes"
+# Where a generated scene goes: RUN_DIR/scenes/NAME.json, RUN_DIR standing in
+# for the run directory until the runner makes it (a dry run shows it so).
+GENERATED_SCENES = Path("RUN_DIR") / "scenes"
 
 INTERLEAVE_MODES = ("round-robin", "shuffle", "blocked")
+# The raytracer option of the profile's accels axis.
+ACCEL_FLAG = "--accel"
 # `--lanes native`: the widest packet of the SIMD target chosen at run time;
 # the other values are the schema's lane_widths.
 NATIVE_LANES = "native"
@@ -69,16 +78,21 @@ class Config:
     frames: int
     axes: tuple[tuple[str, str], ...] = ()
     args: tuple[str, ...] = ()
+    accel: str = names.BRUTE_FORCE
 
     @property
     def id(self) -> str:
-        """A file-name-safe identifier, unique within a profile."""
-        parts = [self.scene, self.renderer, self.variant.label, *(f"{axis}{value}" for axis, value in self.axes)]
+        """A file-name-safe identifier, unique within a profile (the accel in
+        it where it is not brute force)."""
+        accel = [] if self.accel == names.BRUTE_FORCE else [self.accel]
+        parts = [self.scene, self.renderer, self.variant.label, *accel,
+                 *(f"{axis}{value}" for axis, value in self.axes)]
         return re.sub(r"[^A-Za-z0-9_.-]+", "_", "-".join(parts))
 
     def argv(self, binary: Path, csv: Path, meta: Path) -> list[str]:
         """The raytracer command line for one repetition of this configuration."""
         argv = [str(binary), names.RENDERER_FLAGS[self.renderer], self.scene_path, *self.variant.args()]
+        argv += [ACCEL_FLAG, self.accel]
         argv += ["--width", str(self.width), "--height", str(self.height)]
         argv += ["--warmup", str(self.warmup), "--frames", str(self.frames)]
         for axis, value in self.axes:
@@ -91,8 +105,9 @@ class Config:
         return {
             "id": self.id, "scene": self.scene, "scene_path": self.scene_path, "renderer": self.renderer,
             "stage": self.variant.label, "algorithm": self.variant.algorithm,
-            "early_exits": list(self.variant.early_exits), "width": self.width, "height": self.height,
-            "warmup": self.warmup, "frames": self.frames, "axes": dict(self.axes), "args": list(self.args),
+            "early_exits": list(self.variant.early_exits), "accel": self.accel, "width": self.width,
+            "height": self.height, "warmup": self.warmup, "frames": self.frames, "axes": dict(self.axes),
+            "args": list(self.args),
         }
 
 
@@ -104,6 +119,7 @@ class Profile:
     preset: str
     scenes: tuple[str, ...]
     variants: tuple[Variant, ...]
+    accels: tuple[str, ...]
     renderers: dict[str, dict[str, list]]
     width: int
     height: int
@@ -153,8 +169,8 @@ def parse_profile(raw: dict, path: Path) -> Profile:
     overrides = tuple(_override(o, path, i, variants) for i, o in enumerate(values["overrides"]))
     return Profile(
         name=path.stem, path=path, description=values["description"], preset=values["preset"],
-        scenes=tuple(values["scenes"]), variants=variants, renderers=renderers, width=values["width"],
-        height=values["height"], warmup=values["warmup"], frames=values["frames"],
+        scenes=tuple(values["scenes"]), variants=variants, accels=tuple(values["accels"]), renderers=renderers,
+        width=values["width"], height=values["height"], warmup=values["warmup"], frames=values["frames"],
         repetitions=values["repetitions"], interleave=values["interleave"], seed=values["seed"],
         args=tuple(values["args"]), timeout_s=float(values["timeout_s"]), overrides=overrides, raw=raw,
     )
@@ -200,6 +216,7 @@ TOP_RULES = {
     "preset": Rule("str", "release"),
     "scenes": Rule("str", shape="list"),
     "stages": Rule("stage", shape="list"),
+    "accels": Rule("str", [names.BRUTE_FORCE], shape="list", choices=tuple(names.ACCELS)),
     "width": Rule("int", 800, minimum=1),
     "height": Rule("int", 600, minimum=1),
     "warmup": Rule("int", 1, minimum=0),
@@ -221,6 +238,7 @@ OVERRIDE_RULES = {
     "renderers": Rule("str", OPTIONAL, shape="list", choices=tuple(names.RENDERERS)),
     "stages": Rule("str", OPTIONAL, shape="list"),
     "scenes": Rule("str", OPTIONAL, shape="list"),
+    "accels": replace(TOP_RULES["accels"], default=OPTIONAL),
     **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in ("width", "height", "warmup", "frames", "args")},
     "skip": Rule("bool", OPTIONAL),
 }
@@ -340,7 +358,8 @@ def _override(entry: dict, path: Path, index: int, variants: tuple[Variant, ...]
 # --- scenes ------------------------------------------------------------------
 
 def resolve_scene(arg: str, scenes_dir: Path = SCENES_DIR) -> Path:
-    """A scene given by name means scenes/NAME.json; a path is used as is."""
+    """A scene given by name means scenes/NAME.json, else, for a name the
+    generator makes (randomN), GENERATED_SCENES/NAME.json; a path is used as is."""
     candidate = Path(arg)
     if candidate.is_file():
         return candidate.resolve()
@@ -348,8 +367,11 @@ def resolve_scene(arg: str, scenes_dir: Path = SCENES_DIR) -> Path:
         named = scenes_dir / f"{arg}.json"
         if named.is_file():
             return named.resolve()
+        if scenes.recipe(arg) is not None:
+            return GENERATED_SCENES / f"{arg}.json"
         known = ", ".join(sorted(p.stem for p in scenes_dir.glob("*.json")))
-        raise ProfileError(f"no scene {arg!r}: {named} does not exist (scenes: {known})")
+        raise ProfileError(f"no scene {arg!r}: {named} does not exist and the generator makes default and randomN "
+                           f"only (scenes: {known})")
     raise ProfileError(f"scene file {arg} does not exist")
 
 
@@ -386,12 +408,13 @@ def parse_threads(value, cpu_count: int) -> list[int]:
 
 def expand(profile: Profile, scene_paths: list[Path], cpu_count: int, renderers: list[str] | None = None,
            forced: dict | None = None) -> list[Config]:
-    """Every configuration of the matrix, scene-major and renderer-innermost, so
-    that running them in this order already alternates renderers. `forced`
-    (from the command line: width, height, warmup, frames) wins over the
-    profile and its overrides."""
+    """Every configuration of the matrix (scene x stage x accel x renderer x
+    its axes), scene-major and renderer-innermost, so that running them in
+    this order already alternates renderers. `forced` (from the command line:
+    width, height, warmup, frames) wins over the profile and its overrides."""
     configs = []
-    for scene_path, variant, renderer in itertools.product(scene_paths, profile.variants, profile.renderers):
+    for scene_path, variant, accel, renderer in itertools.product(scene_paths, profile.variants, profile.accels,
+                                                                  profile.renderers):
         if renderers and renderer not in renderers:
             continue
         spec = profile.renderers[renderer]
@@ -400,7 +423,7 @@ def expand(profile: Profile, scene_paths: list[Path], cpu_count: int, renderers:
             config = Config(
                 scene=scene_path.stem, scene_path=str(scene_path), renderer=renderer, variant=variant,
                 width=profile.width, height=profile.height, warmup=profile.warmup, frames=profile.frames,
-                axes=tuple(zip(axes, combo)), args=(*profile.args, *spec["args"]),
+                axes=tuple(zip(axes, combo)), args=(*profile.args, *spec["args"]), accel=accel,
             )
             config = apply_overrides(config, profile.overrides)
             if config is not None:
@@ -423,11 +446,23 @@ def apply_overrides(config: Config, overrides: tuple[dict, ...]) -> Config | Non
     return config
 
 
+def place_generated_scenes(configs: list[Config], written: dict[str, str]) -> list[Config]:
+    """The configurations with each stand-in path of a generated scene
+    (GENERATED_SCENES) replaced by the path `written` gives it."""
+    return [replace(c, scene_path=written.get(c.scene_path, c.scene_path)) for c in configs]
+
+
+def generated_scenes(configs: list[Config]) -> list[str]:
+    """The names of the generated scenes the configurations use, in order."""
+    return list(dict.fromkeys(c.scene for c in configs if Path(c.scene_path).parent == GENERATED_SCENES))
+
+
 def _matches(config: Config, override: dict) -> bool:
     return (
         config.renderer in override.get("renderers", [config.renderer])
         and config.variant.label in override.get("stages", [config.variant.label])
         and config.scene in override.get("scenes", [config.scene])
+        and config.accel in override.get("accels", [config.accel])
     )
 
 
@@ -435,7 +470,7 @@ def _check_unique(configs: list[Config]) -> None:
     seen: set[str] = set()
     for c in configs:
         if c.id in seen:
-            raise ProfileError(f"configuration {c.id} appears twice (a scene, stage or axis value listed twice?)")
+            raise ProfileError(f"configuration {c.id} appears twice (a scene, stage, accel or axis value twice?)")
         seen.add(c.id)
 
 

@@ -56,6 +56,8 @@ class ReportResults:
     summary: pd.DataFrame
     metrics: pd.DataFrame
     scaling: pd.DataFrame
+    curves: pd.DataFrame  # summary rows on a cost-vs-spheres curve (metrics.sphere_curves)
+    cost_fits: pd.DataFrame  # one fitted power law per curve (metrics.cost_fits)
     thesis_metrics: pd.DataFrame
     tables: list[tables.Table]
     warnings: list[str]
@@ -77,13 +79,16 @@ def compute(inputs: ReportInputs) -> ReportResults:
     cores = int(inputs.frames[names.LOGICAL_CORES].max())
     met = metrics.metrics_table(summary, cores, inputs.gpu_estimates, inputs.gpu_override)
     scaling = metrics.scaling_table(summary)
+    curves = metrics.sphere_curves(summary)
+    fits = metrics.cost_fits(curves)
     thesis_metrics = thesis.reported_vs_recomputed(inputs.thesis_tables, inputs.thesis_reported)
-    built = build_tables(summary, met, thesis_metrics, inputs.thesis_tables)
-    return ReportResults(summary, met, scaling, thesis_metrics, built, collect_warnings(inputs, summary))
+    built = build_tables(summary, met, thesis_metrics, inputs.thesis_tables, fits)
+    return ReportResults(summary, met, scaling, curves, fits, thesis_metrics, built, collect_warnings(inputs, summary))
 
 
-def build_tables(summary, met, thesis_metrics, thesis_tables) -> list[tables.Table]:
-    """Tables 1-4 per image size, then the comparisons, then everything."""
+def build_tables(summary, met, thesis_metrics, thesis_tables, fits) -> list[tables.Table]:
+    """Tables 1-4 per image size, then the comparisons, the cost vs spheres
+    (where the run has it), then everything."""
     sizes = tables.sizes(summary)
     scenes = _scene_order(summary, thesis_tables)
     built = []
@@ -98,6 +103,8 @@ def build_tables(summary, met, thesis_metrics, thesis_tables) -> list[tables.Tab
     built.append(tables.metrics_our(met))
     built.append(tables.metrics_vs_thesis(thesis_metrics, met, sizes[0]))
     built.append(tables.thesis_published(thesis_metrics))
+    if not fits.empty:
+        built.append(tables.cost_vs_spheres(fits))
     built.append(tables.summary_table(summary))
     return built
 
@@ -184,6 +191,8 @@ def write_data(inputs: ReportInputs, results: ReportResults, out: Path) -> list[
         "outliers.csv": flagged[outlier_cols],
         "thesis_metrics.csv": results.thesis_metrics,
     }
+    if not results.cost_fits.empty:
+        files["cost_vs_spheres.csv"] = results.cost_fits
     return [atomic.write_text(out / name, df.to_csv(index=False, float_format="%.17g")) for name, df in files.items()]
 
 
@@ -194,6 +203,7 @@ def draw_figures(inputs: ReportInputs, results: ReportResults, out: Path) -> dic
         "render_ms": plots.render_bars(results.summary, out / "render_ms"),
         "thesis_speedups": plots.thesis_speedups(_speedup_pairs(results, inputs), out / "thesis_speedups"),
         "scaling": plots.speedup_vs_threads(results.scaling, out / "scaling"),
+        "cost_vs_spheres": plots.cost_vs_spheres(results.curves, results.cost_fits, out / "cost_vs_spheres"),
         "frame_series": plots.frame_series(frames, out / "frame_series"),
         "distributions": plots.distributions(frames, out / "distributions"),
     }
@@ -247,10 +257,14 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         "## The thesis' own metrics, recomputed\n",
         thesis_note(results.thesis_metrics),
         tables.to_markdown(by_slug["thesis-metrics-recomputed"]),
+        _cost_section(by_slug, figures, out),
         "## Figures\n",
         _figure(figures, "render_ms", "Render time per frame", out),
         _figure(figures, "scaling", "Strong scaling", out)
         or "No strong-scaling figure: this run has one thread count per renderer (use `--profile scaling`).\n",
+        "" if figures.get("cost_vs_spheres") else
+        f"No cost-vs-spheres figure: no configuration of this run ran on {metrics.MIN_SPHERE_COUNTS} or more "
+        "sphere counts (use `--profile scene-size`).\n",
         _figure(figures, "frame_series", "Frame times in run order", out),
         _figure(figures, "distributions", "Frame-time distributions", out),
         "## Every configuration\n",
@@ -262,6 +276,15 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         _unfinished_section(inputs.manifests),
     ]
     return "\n".join(p for p in parts if p)
+
+
+def _cost_section(by_slug: dict[str, tables.Table], figures: dict[str, list[Path]], out: Path) -> str:
+    """How the render time grows with the sphere count, where the run has
+    configurations on enough sphere counts to fit it."""
+    if "cost-vs-spheres" not in by_slug:
+        return ""
+    return "\n".join(["## Cost vs spheres\n", tables.to_markdown(by_slug["cost-vs-spheres"]),
+                      _figure(figures, "cost_vs_spheres", "Cost vs spheres (log-log, fitted power laws)", out)])
 
 
 def _what_ran(inputs: ReportInputs, results: ReportResults) -> str:
@@ -326,14 +349,15 @@ def _reason(run: dict) -> str:
 HOW_TO_READ = """## How to read this report
 
 - Every number is a statistic of the **measured** frames of a configuration
-  (one scene x renderer x stage x threads x lanes x size), all repetitions
+  (one scene x renderer x stage x accel x threads x lanes x size), all repetitions
   pooled; warm-up frames are never included. The tables show the **median**
   render time per frame (`render_ms`, host wall time of the Render phase).
 - The thesis reported arithmetic means at -O0 on an Apple M1; times do not
   compare across machines, **speedups** over the sequential reference do.
 - Where a renderer ran with several thread counts or lane widths, tables 1-4
   and the comparisons show the configuration with the most threads x lanes;
-  all of them are in the summary table.
+  all of them are in the summary table. They show brute force (accel
+  `none`), the thesis' algorithm; other accels are in the summary.
 - Uncertainty: the 95 % bootstrap confidence interval of the median (seeded,
   so a report regenerates identically) and the spread between repetitions.
   Frames with a modified z-score above 3.5 are flagged as outliers, never

@@ -19,7 +19,7 @@ from dataclasses import asdict, dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
 
-from rtbench import atomic, load, names, noise
+from rtbench import atomic, load, names, noise, profiles, scenes
 from rtbench.profiles import Config, Profile
 
 PENDING, OK, FAILED, UNAVAILABLE, INTERRUPTED = "pending", load.OK, "failed", "unavailable", "interrupted"
@@ -139,6 +139,20 @@ def make_run_dir(runs_dir: Path, profile_name: str, now: datetime | None = None)
         except FileExistsError:
             continue
     raise RuntimeError(f"cannot create a run directory under {runs_dir}")
+
+
+def write_generated_scenes(configs: list[Config], run_dir: Path, out=None) -> list[Config]:
+    """Writes the generated scenes the configurations use (randomN that
+    scenes/ lacks) into RUN_DIR/scenes/ and returns the configurations with
+    those paths in place of the stand-in."""
+    written = {}
+    for name in profiles.generated_scenes(configs):
+        scene = scenes.recipe(name)()
+        path = atomic.write_text(run_dir / profiles.GENERATED_SCENES.name / f"{name}.json", scenes.to_json(scene))
+        written[str(profiles.GENERATED_SCENES / f"{name}.json")] = str(path.resolve())
+        if out is not None:
+            print(f"bench: generated scene {name} ({len(scene['spheres'])} spheres) -> {path}", file=out, flush=True)
+    return profiles.place_generated_scenes(configs, written)
 
 
 def plan_runs(schedule: list[tuple[int, Config]], binary: Path, run_dir: Path) -> list[RunRecord]:

@@ -153,17 +153,21 @@ def coefficient_of_variation(values) -> float:
 
 
 def config_label(row) -> str:
-    """scene/renderer/stage[/tN][/lN]: a configuration's name in warnings, with
-    the threads and lanes where its renderer takes them."""
+    """scene/renderer/stage[/tN][/lN][/accel]: a configuration's name in
+    warnings, with the threads and lanes where its renderer takes them and the
+    accel where it is not brute force."""
     options = "".join(f"/{option[0]}{value}" for option, value in names.label_options(row))
-    return f"{row[names.SCENE]}/{row[names.RENDERER]}/{row[names.STAGE]}{options}"
+    accel = "".join(f"/{tag}" for tag in names.accel_tag(row))
+    return f"{row[names.SCENE]}/{row[names.RENDERER]}/{row[names.STAGE]}{options}{accel}"
 
 
 def sort_configs(df: pd.DataFrame) -> pd.DataFrame:
-    """Stages and renderers in schema order, then scene, threads, lanes."""
+    """Stage, scene, renderer, accel (schema order where the schema has one), threads, lanes."""
     key = df.assign(
         _stage=df[names.STAGE].map(names.stage_order),
         _renderer=df[names.RENDERER].map(names.renderer_order),
+        _accel=df[names.ACCEL].map(names.accel_order),
     )
-    key = key.sort_values(["_stage", names.SCENE, "_renderer", names.THREADS, names.LANES, names.WIDTH], kind="stable")
-    return key.drop(columns=["_stage", "_renderer"]).reset_index(drop=True)
+    key = key.sort_values(["_stage", names.SCENE, "_renderer", "_accel", names.THREADS, names.LANES, names.WIDTH],
+                          kind="stable")
+    return key.drop(columns=["_stage", "_renderer", "_accel"]).reset_index(drop=True)

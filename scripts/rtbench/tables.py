@@ -76,7 +76,7 @@ def to_markdown(table: Table) -> str:
 
 LATEX_SPECIALS = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
                   "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}", "–": "--",
-                  "×": r"$\times$", "±": r"$\pm$", "→": r"$\rightarrow$"}
+                  "×": r"$\times$", "±": r"$\pm$", "→": r"$\rightarrow$", "²": r"$^2$"}
 
 
 def latex_escape(text: str) -> str:
@@ -110,9 +110,11 @@ def sizes(summary: pd.DataFrame) -> list[tuple[int, int]]:
 
 
 def headline_rows(summary: pd.DataFrame) -> pd.DataFrame:
-    """One configuration per (scene, renderer, stage, size, build): the one with
-    the most threads x lanes, i.e. the whole machine, as in the thesis. All
-    others stay in the summary table."""
+    """One configuration per (scene, renderer, stage, size, build) as the
+    thesis ran it: brute force (accel none), and of those the one with the
+    most threads x lanes, i.e. the whole machine. All others stay in the
+    summary table."""
+    summary = summary[summary[names.ACCEL] == names.BRUTE_FORCE]
     df = summary.assign(_p=summary[names.THREADS] * summary[names.LANES].clip(lower=1))
     df = df.sort_values(["_p", names.LANES], ascending=False, kind="stable")
     keys = [names.SCENE, names.RENDERER, names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
@@ -160,8 +162,19 @@ def thesis_mirror(summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int],
              f"{MISSING} = not in this run."]
     if used:
         notes.append("Configurations: " + "; ".join(f"{r}: {d}" for r, d in used.items()) + ".")
+    notes += _brute_force_note(summary)
     return Table(f"table{spec.number}-{spec.stage}", f"Table {spec.number} ({spec.stage}): render time per frame [ms]",
                  ["scene", *spec.renderers], rows, "l" + "r" * len(spec.renderers), notes)
+
+
+def _brute_force_note(summary: pd.DataFrame) -> list[str]:
+    """A note for the thesis comparisons of a run that also searched otherwise
+    than by brute force (none for a run of brute force only)."""
+    others = sorted(set(summary[names.ACCEL]) - {names.BRUTE_FORCE}, key=names.accel_order)
+    if not others:
+        return []
+    return [f"Brute force only ({names.ACCEL} {names.BRUTE_FORCE}, the thesis' algorithm); the "
+            f"{', '.join(others)} configurations are in the summary table."]
 
 
 def side_by_side(summary: pd.DataFrame, thesis_tables: pd.DataFrame, size: tuple[int, int]) -> Table:
@@ -230,14 +243,33 @@ def _ratio(before: float, after: float) -> float:
     return before / after if before > 0 and after > 0 else math.nan
 
 
-# The columns that name a configuration, first in the per-configuration tables.
-CONFIG_HEADERS = ["stage", "scene", "renderer", "size", "threads", "lanes", "target / device"]
+# The columns that name a configuration, first in the per-configuration
+# tables: (header, alignment, cell of a row as a dict).
+CONFIG_COLUMNS = [
+    ("stage", "l", lambda d: d[names.STAGE]),
+    ("scene", "l", lambda d: d[names.SCENE]),
+    ("renderer", "l", lambda d: d[names.RENDERER]),
+    (names.ACCEL, "l", lambda d: d[names.ACCEL]),
+    ("size", "l", lambda d: f"{d[names.WIDTH]}x{d[names.HEIGHT]}"),
+    ("threads", "r", lambda d: fmt_int(d[names.THREADS])),
+    ("lanes", "r", lambda d: fmt_int(d[names.LANES])),
+    ("target / device", "l", lambda d: _target_or_device(d)),
+]
 
 
-def _config_cells(d: dict) -> list[str]:
-    """A configuration row's CONFIG_HEADERS cells."""
-    return [d[names.STAGE], d[names.SCENE], d[names.RENDERER], f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
-            fmt_int(d[names.THREADS]), fmt_int(d[names.LANES]), _target_or_device(d)]
+def _config_columns(leave_out: tuple[str, ...] = ()) -> list[tuple]:
+    return [column for column in CONFIG_COLUMNS if column[0] not in leave_out]
+
+
+def _config_headers(leave_out: tuple[str, ...] = ()) -> tuple[list[str], str]:
+    """The configuration columns' headers and alignment, less `leave_out`."""
+    columns = _config_columns(leave_out)
+    return [header for header, _, _ in columns], "".join(align for _, align, _ in columns)
+
+
+def _config_cells(d: dict, leave_out: tuple[str, ...] = ()) -> list[str]:
+    """A configuration row's cells of the configuration columns, less `leave_out`."""
+    return [cell(d) for _, _, cell in _config_columns(leave_out)]
 
 
 def _target_or_device(d: dict) -> str:
@@ -254,11 +286,11 @@ def metrics_our(metrics: pd.DataFrame) -> Table:
                      f"{fmt_fixed(d['speedup'])} [{fmt_fixed(d['speedup_low'], 2)}, {fmt_fixed(d['speedup_high'], 2)}]",
                      fmt_int(d["p"]) if math.isfinite(d["p"]) else MISSING, fmt_sig(d["karp_flatt"])])
     reference = names.reference_renderer()
+    headers, align = _config_headers()
     return Table(
         "metrics", f"Speedup over {reference} and Karp-Flatt metric (our run)",
-        [*CONFIG_HEADERS, f"{reference} ms", "ms",
-         "S [range]", "p", "e"],
-        rows, "llllrrlrrrrr",
+        [*headers, f"{reference} ms", "ms", "S [range]", "p", "e"],
+        rows, align + "rrlrr",
         ["S = T_ref / T (medians); range from the bootstrap CIs; e = (1/S - 1/p)/(1 - 1/p). "
          "p = threads x lanes on the CPU; on the GPU the per-device estimate of data/gpu_processors.toml "
          "(or --gpu-p). e is undefined for p = 1."],
@@ -293,11 +325,11 @@ def summary_table(summary: pd.DataFrame) -> Table:
         rows.append([*_config_cells(d), fmt_int(d["n"]), fmt_ms(d["median"]), f"[{fmt_ms(d['ci_low'])}, {fmt_ms(d['ci_high'])}]",
                      fmt_ms(d["mean"]), fmt_ms(d["std"]), fmt_ms(d["mad"]), fmt_ms(d["p95"]), fmt_ms(d["p99"]),
                      fmt_int(d["outliers"]), fmt_int(d["repetitions"]), fmt_percent(d["rep_spread"])])
+    headers, align = _config_headers()
     return Table(
         "summary", "Every configuration: render time per frame [ms]",
-        [*CONFIG_HEADERS, "n", "median", "95% CI",
-         "mean", "std", "MAD", "p95", "p99", "outliers", "reps", "rep spread"],
-        rows, "llllrrlrrrrrrrrrrr",
+        [*headers, "n", "median", "95% CI", "mean", "std", "MAD", "p95", "p99", "outliers", "reps", "rep spread"],
+        rows, align + "rrlrrrrrrrr",
         ["n = measured frames over all repetitions; CI = bootstrap 95% CI of the median (2000 resamples, seeded); "
          "outliers = frames with |modified z| > 3.5 (flagged, kept); rep spread = coefficient of variation of the "
          "per-repetition medians."],
@@ -315,4 +347,25 @@ def thesis_published(thesis_metrics: pd.DataFrame) -> Table:
         ["stage", "scene", "renderer", f"T {reference} ms", "T ms", "p", "S stated", "S recomputed", "e stated",
          "e recomputed"],
         rows, "lllrrrrrrr",
+    )
+
+
+def cost_vs_spheres(fits: pd.DataFrame) -> Table:
+    """The fitted exponent k of median render_ms = c N^k per configuration
+    that ran on several sphere counts (metrics.cost_fits)."""
+    rows = []
+    for r in fits.itertuples(index=False):
+        d = r._asdict()
+        rows.append([*_config_cells(d, leave_out=("scene",)), f"{d['spheres_min']}–{d['spheres_max']}",
+                     fmt_int(d["counts"]), fmt_ms(d["ms_min"]), fmt_ms(d["ms_max"]), fmt_fixed(d["exponent"], 2),
+                     fmt_fixed(d["r2"], 3)])
+    headers, align = _config_headers(leave_out=("scene",))
+    return Table(
+        "cost-vs-spheres", "Cost vs spheres: median render_ms = c N^k, the fitted exponent k",
+        [*headers, "spheres N", "counts", "ms at fewest", "ms at most", "k", "R²"],
+        rows, align + "lrrrrr",
+        ["k = least-squares slope of log(median render_ms) on log(N) over the configuration's scenes (R² of that "
+         "line). Brute force tests every sphere for every ray: expect k near 1. With a BVH a ray visits about "
+         "log N tree levels: expect k well under 1; the scene adds to it where a larger cluster covers more "
+         "pixels and reflects more rays."],
     )

@@ -149,3 +149,31 @@ def test_dry_run_lists_the_schedule_without_running(repo_root, raytracer, tmp_pa
     assert all("random100" in line for line in lines) and "--stage original" in lines[0]
     assert len(lines) > len(names.RENDERERS) * len(names.STAGES)  # paper: repetitions too
     assert list(tmp_path.iterdir()) == []
+
+
+def test_generated_scene_and_accels_are_run_and_recorded(repo_root, raytracer, tmp_path):
+    """A scene the generator makes is written into the run directory; each
+    accel of the profile runs as --accel and comes back in the CSV, the
+    sphere count in the tidy frame."""
+    profile = write_profile(tmp_path, f"""
+        description = "generated scene x accels"
+        scenes = ["random3"]
+        stages = ["optimized"]
+        accels = {list(names.ACCELS)!r}
+        width = 16
+        height = 8
+        warmup = 0
+        frames = 1
+        [renderers.sequential]
+    """.replace("'", '"'))
+    runs = tmp_path / "runs"
+    done = bench(repo_root, raytracer, "--profile", profile, "--runs-dir", runs, "--no-report")
+    assert done.returncode == 0, done.stdout + done.stderr
+    run_dir = only_run_dir(runs)
+    scene = run_dir / "scenes/random3.json"
+    assert len(json.loads(scene.read_text())["spheres"]) == 3
+    manifest = json.loads((run_dir / "manifest.json").read_text())
+    assert {c["scene_path"] for c in manifest["configs"]} == {str(scene)}
+    frames = load.load_runs([run_dir])
+    assert sorted(set(frames[names.ACCEL])) == sorted(names.ACCELS)
+    assert set(frames[names.SPHERES]) == {3}

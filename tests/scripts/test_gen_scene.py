@@ -7,20 +7,49 @@ from rtbench import scenes
 
 
 def test_regenerated_scenes_are_byte_identical(repo_root, tmp_path):
+    committed_scenes = sorted(p.stem for p in (repo_root / "scenes").glob("*.json"))
+    assert sorted(scenes.COMMITTED) == committed_scenes
     subprocess.run(
-        [sys.executable, repo_root / "scripts/gen_scene.py", "default", "random20", "random100", "-o", tmp_path],
+        [sys.executable, repo_root / "scripts/gen_scene.py", *scenes.COMMITTED, "-o", tmp_path],
         check=True,
         capture_output=True,
     )
-    for name in ("default", "random20", "random100"):
+    for name in scenes.COMMITTED:
         committed = (repo_root / "scenes" / f"{name}.json").read_bytes()
         assert (tmp_path / f"{name}.json").read_bytes() == committed, f"scenes/{name}.json drifted from its generator"
 
 
 def test_scene_sizes_match_their_names():
-    assert len(scenes.RECIPES["default"]()["spheres"]) == 3
-    assert len(scenes.RECIPES["random20"]()["spheres"]) == 20
-    assert len(scenes.RECIPES["random100"]()["spheres"]) == 100
+    assert len(scenes.recipe("default")()["spheres"]) == 3
+    assert len(scenes.recipe("random20")()["spheres"]) == 20
+    assert len(scenes.recipe("random7")()["spheres"]) == 7
+    assert scenes.recipe("random7")() == scenes.random_scene(7, seed=7)
+    for name in ("random0", "random", "random07", "default2"):
+        assert scenes.recipe(name) is None
+
+
+def _extent(scene):
+    """(largest |y|, largest distance from the axis + radius, camera orbit radius)."""
+    spheres = scene["spheres"]
+    cam = scene["camera"]["position"]
+    return (max(abs(s["position"][1]) for s in spheres),
+            max((s["position"][0] ** 2 + s["position"][2] ** 2) ** 0.5 + s["radius"] for s in spheres),
+            (cam[0] ** 2 + cam[2] ** 2) ** 0.5)
+
+
+@pytest.mark.parametrize("count", [300, 2000])
+def test_large_scenes_scale_the_cluster_of_the_disc_limit_in_3d(count):
+    """Above DISC_LIMIT the cluster and the camera's orbit grow by cbrt(N / limit)
+    in every direction: the density of random100, seen from proportionally farther."""
+    limit = scenes.DISC_LIMIT
+    scale = (count / limit) ** (1 / 3)
+    height, reach, orbit = _extent(scenes.random_scene(count, seed=3))
+    base_height, base_reach, base_orbit = _extent(scenes.random_scene(limit, seed=3))
+    assert orbit == pytest.approx(base_orbit * scale, rel=1e-4)
+    assert base_height <= 1.5 < height <= 1.5 * scale
+    assert base_reach * scale * 0.9 < reach <= (base_orbit - 4.0) * scale  # spread fills its disc, never the orbit
+    cam = scenes.random_scene(count, seed=3)["camera"]["position"]
+    assert cam[1] / orbit == pytest.approx(0.35, rel=1e-4)  # the same view angle at every N
 
 
 def test_seed_decides_the_scene():

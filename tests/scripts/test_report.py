@@ -7,7 +7,8 @@ import sys
 from pathlib import Path
 
 import pytest
-from rtbench import report_writer, tables
+import pandas as pd
+from rtbench import names, report_writer, tables
 
 FIXTURE = Path(__file__).parent / "fixtures" / "thesis-run"
 
@@ -52,7 +53,8 @@ def test_metrics_reproduce_the_thesis_speedup_and_recomputed_karp_flatt(generate
     metrics = (generated / "tables/metrics.md").read_text()
     row = next(line for line in metrics.splitlines() if line.startswith("| optimized | random100 | simd_tbb |"))
     cells = [c.strip() for c in row.strip("|").split("|")]
-    assert cells[9].startswith("5.956") and cells[10] == "32" and cells[11] == "0.141"
+    assert cells[3] == names.BRUTE_FORCE  # the accel column
+    assert cells[10].startswith("5.956") and cells[11] == "32" and cells[12] == "0.141"
     gpu = next(line for line in metrics.splitlines() if line.startswith("| original | random100 | gpu |"))
     assert "742.735" in gpu and "| 1024 |" in gpu and "Apple M1" in gpu
 
@@ -77,7 +79,7 @@ def test_outlier_is_flagged_and_kept(generated):
     summary = (generated / "tables/summary.md").read_text()
     row = next(line for line in summary.splitlines() if line.startswith("| optimized | random100 | sequential |"))
     cells = [c.strip() for c in row.strip("|").split("|")]
-    assert cells[7] == "6" and cells[15] == "1"  # n = 6 measured frames, 1 outlier among them
+    assert cells[8] == "6" and cells[16] == "1"  # n = 6 measured frames, 1 outlier among them
 
 
 def test_failed_run_is_listed(generated):
@@ -91,6 +93,8 @@ def test_latex_and_figures_are_written(generated):
         assert (generated / f"plots/{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert b"<svg" in (generated / f"plots/{stem}.svg").read_bytes()[:400]
     assert not (generated / "plots/scaling.png").exists()  # one thread count per renderer
+    assert not (generated / "plots/cost_vs_spheres.png").exists()  # two sphere counts (default, random100)
+    assert "No cost-vs-spheres figure" in (generated / "README.md").read_text()
     assert not list(generated.rglob("*.tmp"))
 
 
@@ -103,6 +107,32 @@ def test_regeneration_is_identical_and_removes_stale_files(generated, tmp_path):
     assert not (tmp_path / "plots/old.png").exists()
     for rel in ("README.md", "tables/metrics.md", "tables/summary.tex", "data/summary.csv", "plots/render_ms.svg"):
         assert (tmp_path / rel).read_bytes() == (generated / rel).read_bytes(), rel
+
+
+def test_thesis_tables_show_brute_force_only_and_every_accel_is_a_column():
+    """The same runs again with another accel (3x faster): tables 1-4 keep
+    their rows and gain a note; the configuration tables list both accels,
+    each accel's speedup against the reference of the same accel."""
+    inputs = report_writer.gather([FIXTURE])
+    inputs.frames = inputs.frames[inputs.frames[names.STAGE] == "optimized"]  # table 4 only: half the time
+    other = names.ACCELS[-1]
+    faster = inputs.frames.assign(**{names.ACCEL: other, names.RENDER_MS: inputs.frames[names.RENDER_MS] / 3,
+                                     names.RUN_ID: inputs.frames[names.RUN_ID] + "x"})
+    inputs_both = report_writer.ReportInputs(**{**vars(inputs), "frames": pd.concat([inputs.frames, faster])})
+    alone, both = report_writer.compute(inputs), report_writer.compute(inputs_both)
+    thesis_alone = [t for t in alone.tables if t.slug.startswith("table")]
+    thesis_both = [t for t in both.tables if t.slug.startswith("table")]
+    assert [t.rows for t in thesis_both] == [t.rows for t in thesis_alone]
+    assert all(t.notes[:-1] == a.notes and other in t.notes[-1] for t, a in zip(thesis_both, thesis_alone))
+    assert set(tables.headline_rows(both.summary[::-1])[names.ACCEL]) == {names.BRUTE_FORCE}  # whatever the order
+    assert len(both.summary) == 2 * len(alone.summary)
+    for t in both.tables:
+        assert len(t.align) == len(t.headers) and all(len(row) == len(t.headers) for row in t.rows), t.slug
+    met = both.metrics.set_index([names.SCENE, names.STAGE, names.RENDERER, names.ACCEL])["speedup"]
+    for (scene, stage, renderer, accel), s in met.items():
+        assert s == pytest.approx(met[(scene, stage, renderer, names.BRUTE_FORCE)])
+    summary = tables.to_markdown(tables.summary_table(both.summary))
+    assert f"| optimized | random100 | simd_tbb | {other} |" in summary
 
 
 def test_gpu_processor_override(tmp_path):

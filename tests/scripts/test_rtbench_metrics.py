@@ -68,7 +68,8 @@ def _scaling_summary():
 
     rows = []
     for threads, median in ((1, 100.0), (2, 55.0), (4, 30.0)):
-        rows.append({names.SCENE: "s", names.STAGE: "optimized", names.RENDERER: "tbb_only", names.LANES: 1,
+        rows.append({names.SCENE: "s", names.SPHERES: 3, names.STAGE: "optimized", names.ACCEL: names.BRUTE_FORCE,
+                     names.RENDERER: "tbb_only", names.LANES: 1,
                      names.SIMD_TARGET: "", names.WIDTH: 8, names.HEIGHT: 8, names.DEVICE: "", names.BUILD_TYPE: "Release",
                      names.THREADS: threads, "median": median, "ci_low": median * 0.99, "ci_high": median * 1.01})
     rows.append({**rows[0], names.RENDERER: names.reference_renderer(), "median": 100.0})

@@ -167,3 +167,68 @@ def test_a_renderer_takes_exactly_the_options_the_schema_gives_it(tmp_path, rend
     argv = config.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
     flag = schema.renderer_options()[option]
     assert argv[argv.index(flag) + 1] == str(value)
+
+
+def test_accels_are_an_axis_passed_as_accel(tmp_path):
+    default = profiles.load_profile(str(_write(tmp_path, """
+        description = "x"
+        scenes = ["default"]
+        stages = ["optimized"]
+        [renderers.sequential]
+    """)))
+    assert default.accels == (names.BRUTE_FORCE,)
+    path = _write(tmp_path, f"""
+        description = "x"
+        scenes = ["default"]
+        stages = ["optimized"]
+        accels = {list(names.ACCELS)!r}
+        [renderers.sequential]
+        [[overrides]]
+        accels = [{names.ACCELS[-1]!r}]
+        frames = 9
+    """.replace("'", '"'))
+    configs = profiles.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
+    assert [c.accel for c in configs] == names.ACCELS
+    assert len({c.id for c in configs}) == len(configs)
+    for c in configs:
+        argv = c.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
+        assert argv[argv.index(profiles.ACCEL_FLAG) + 1] == c.accel
+        assert c.describe()["accel"] == c.accel
+        assert c.frames == (9 if c.accel == names.ACCELS[-1] else 5)  # overrides match on accels
+
+
+def test_an_unknown_accel_is_rejected_naming_the_schemas(tmp_path):
+    path = _write(tmp_path, """
+        description = "x"
+        scenes = ["default"]
+        stages = ["optimized"]
+        accels = ["kd-tree"]
+        [renderers.sequential]
+    """)
+    with pytest.raises(ProfileError, match=f"accels must be a list, each one of {', '.join(names.ACCELS)}"):
+        profiles.load_profile(str(path))
+
+
+def test_a_scene_the_generator_makes_resolves_into_the_run_directory():
+    assert profiles.resolve_scene("random7") == profiles.GENERATED_SCENES / "random7.json"
+    with pytest.raises(ProfileError, match="randomN"):
+        profiles.resolve_scene("random0")
+
+
+def _spheres(config):
+    return int(config.scene.removeprefix("random"))
+
+
+def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow_cells_small():
+    profile, configs = _expand("scene-size")
+    assert {_spheres(c) for c in configs} == {10, 100, 1000, 10000, 100000}
+    assert {c.variant.label for c in configs} == {"optimized"} and {(c.width, c.height) for c in configs} == {(800, 600)}
+    for renderer in profile.renderers:
+        for accel in names.ACCELS:
+            counts = {_spheres(c) for c in configs if c.renderer == renderer and c.accel == accel}
+            assert len(counts) >= 3, (renderer, accel)
+            if not names.accepts(renderer, "lanes") and names.renders_on_cpu(renderer):
+                assert max(counts) <= 1000, f"scalar {renderer} stays at small N"
+    largest = [(c.renderer, c.accel) for c in configs if _spheres(c) == 100000]
+    assert sorted(largest) == [("gpu", "bvh"), ("simd_tbb", "bvh")]
+    assert all(c.scene_path.startswith(str(profiles.GENERATED_SCENES)) for c in configs if _spheres(c) in (10, 100000))
