@@ -9,12 +9,26 @@
 // Descriptor set 0.
 #define RT_BINDING_SPHERES 0
 #define RT_BINDING_OUTPUT 1
+// The BVH of --accel bvh (rt::Bvh::nodes and rt::Bvh::order).
+#define RT_BINDING_BVH_NODES 2
+#define RT_BINDING_BVH_ORDER 3
 
 // Specialization constants: fixed per pipeline, so the compiler removes the
 // branches of the variants that are not used (as the C++ templates do).
 #define RT_SPEC_TWO_PASS 0
 #define RT_SPEC_BOUNCE_EXIT 1
 #define RT_SPEC_MAX_DEPTH 2
+// --accel bvh, and the two scene bounds the traversal pad grows with
+// (rt::Bvh::maxRadius, maxCoordinate): fixed per scene, and the push
+// constants have no room left for them.
+#define RT_SPEC_USE_BVH 3
+#define RT_SPEC_BVH_MAX_RADIUS 4
+#define RT_SPEC_BVH_MAX_COORDINATE 5
+
+// rt::BvhNode's encoding and the deepest tree the build makes, which sizes
+// the traversal stack; src/gpu/gpu_layout.h asserts both equal the C++ ones.
+#define RT_BVH_COUNT_MASK 0x3fffffffu
+#define RT_BVH_MAX_DEPTH 48
 
 // One invocation per pixel in 8x8 tiles: two 32-wide warps on NVIDIA, one
 // 64-wide wave on AMD, eight 8-wide rows for lavapipe's 256-bit vectors.

@@ -16,6 +16,12 @@ layout(constant_id = RT_SPEC_BOUNCE_EXIT) const bool BOUNCE_EXIT = true;
 // The scene's render.maxDepth: a specialization constant rather than a push
 // constant because it sizes the two-pass algorithm's stored arrays.
 layout(constant_id = RT_SPEC_MAX_DEPTH) const int MAX_DEPTH = 5;
+// --accel bvh: walk the hierarchy instead of testing every sphere. Off, the
+// traversal is compiled out and brute force runs exactly as without it.
+layout(constant_id = RT_SPEC_USE_BVH) const bool USE_BVH = false;
+// rt::Bvh::maxRadius and maxCoordinate, which size the traversal pad.
+layout(constant_id = RT_SPEC_BVH_MAX_RADIUS) const float BVH_MAX_RADIUS = 0.0;
+layout(constant_id = RT_SPEC_BVH_MAX_COORDINATE) const float BVH_MAX_COORDINATE = 0.0;
 
 const float EPS = float(RT_HIT_EPSILON);
 
@@ -32,6 +38,24 @@ struct GPUSphere {
 
 layout(std430, set = 0, binding = RT_BINDING_SPHERES) readonly buffer Spheres {
   GPUSphere spheres[];
+};
+
+// Mirrored by rt::BvhNode (src/render/accel/bvh.h, asserted in
+// src/gpu/gpu_layout.h): 32 bytes, {vec3 lo; uint first; vec3 hi; uint meta}.
+// Read as two uvec4s for the same one-load-per-half reason as GPUSphere;
+// uints, not floats, so that the counts and indices (denormals as floats)
+// come through untouched, and the bounds are reinterpreted as floats.
+struct GPUBvhNode {
+  uvec4 loFirst;  // xyz: lower bounds, w: first (leaf: slot in order, inner: left child)
+  uvec4 hiMeta;   // xyz: upper bounds, w: leaf sphere count, or split axis << 30
+};
+
+// With brute force these slots name the sphere buffer and are never read.
+layout(std430, set = 0, binding = RT_BINDING_BVH_NODES) readonly buffer BvhNodes {
+  GPUBvhNode bvhNodes[];
+};
+layout(std430, set = 0, binding = RT_BINDING_BVH_ORDER) readonly buffer BvhOrder {
+  uint bvhOrder[];  // sphere indices, leaf by leaf
 };
 
 layout(rgba8, set = 0, binding = RT_BINDING_OUTPUT) uniform writeonly image2D outputImage;
@@ -80,8 +104,22 @@ float intersectSphere(vec3 origin, vec3 direction, vec4 sphere) {
   return t;
 }
 
-// The nearest hit over all spheres; on an exact tie the lower index wins.
-Hit nearestHit(vec3 origin, vec3 direction) {
+// The hit record of sphere `index` at distance `t` (or a miss for index -1).
+Hit hitRecord(vec3 origin, vec3 direction, float t, int index) {
+  Hit hit;
+  hit.sphere = index;
+  hit.position = vec3(0.0);
+  hit.normal = vec3(0.0);
+  if (index >= 0) {
+    vec4 s = spheres[index].positionRadius;
+    hit.position = origin + t * direction;
+    hit.normal = (hit.position - s.xyz) / s.w;
+  }
+  return hit;
+}
+
+// Brute force: the nearest hit over all spheres; on an exact tie the lower index wins.
+Hit nearestHitOfAll(vec3 origin, vec3 direction) {
   float best = 1.0 / 0.0;  // +infinity
   int bestIndex = -1;
   for (uint i = 0u; i < pc.sphereCount; ++i) {
@@ -91,16 +129,79 @@ Hit nearestHit(vec3 origin, vec3 direction) {
       bestIndex = int(i);
     }
   }
-  Hit hit;
-  hit.sphere = bestIndex;
-  hit.position = vec3(0.0);
-  hit.normal = vec3(0.0);
-  if (bestIndex >= 0) {
-    GPUSphere s = spheres[bestIndex];
-    hit.position = origin + best * direction;
-    hit.normal = (hit.position - s.positionRadius.xyz) / s.positionRadius.w;
+  return hitRecord(origin, direction, best, bestIndex);
+}
+
+// rt::traversalPad (src/render/accel/bvh.h) for this ray's origin: how far
+// a box is widened, in space and along the ray, so that no sphere the float
+// test reports a hit on is culled with its box.
+float traversalPad(vec3 origin) {
+  vec3 a = abs(origin);
+  float scale = max(max(a.x, a.y), a.z) + BVH_MAX_COORDINATE;
+  return 1e-5 * scale + 3e-3 * sqrt(BVH_MAX_RADIUS * scale) + 2e-3 * BVH_MAX_RADIUS + 1e-6;
+}
+
+// 1 / direction, with a zero component made tiny (sign kept, -0 included),
+// so that the slab test never computes 0 * infinity, and Vulkan's division
+// stays inside the range where its precision is defined.
+vec3 inverseDirection(vec3 d) {
+  const float tiny = 1e-30;
+  uvec3 signs = floatBitsToUint(d) & 0x80000000u;
+  vec3 signedTiny = uintBitsToFloat(signs | floatBitsToUint(tiny));
+  return 1.0 / mix(d, signedTiny, lessThan(abs(d), vec3(tiny)));
+}
+
+// Whether the ray may meet a sphere inside the node's box, widened by
+// `pad`, nearer than `best` (+ pad): the CPU kernels' slab test.
+bool boxReachable(GPUBvhNode node, vec3 origin, vec3 inverse, float pad, float best) {
+  vec3 t0 = (uintBitsToFloat(node.loFirst.xyz) - pad - origin) * inverse;
+  vec3 t1 = (uintBitsToFloat(node.hiMeta.xyz) + pad - origin) * inverse;
+  vec3 near = min(t0, t1);
+  vec3 far = max(t0, t1);
+  float tmin = max(max(near.x, near.y), near.z);
+  float tmax = min(min(far.x, far.y), far.z);
+  return tmin <= tmax && tmax >= -pad && tmin <= best + pad;
+}
+
+// With the BVH: the same nearest hit as brute force. The same
+// intersectSphere gives each sphere the same t; spheres come in tree order,
+// so an exact tie is settled by the index rather than by the visit order.
+// Near child first, a fixed stack: a node pops before its two children
+// push, so depth + 1 entries suffice.
+Hit nearestHitInBvh(vec3 origin, vec3 direction) {
+  vec3 inverse = inverseDirection(direction);
+  float pad = traversalPad(origin);
+  float best = 1.0 / 0.0;  // +infinity
+  int bestIndex = -1;
+  uint stack[RT_BVH_MAX_DEPTH + 2];
+  int top = 0;
+  stack[top++] = 0u;
+  while (top > 0) {
+    GPUBvhNode node = bvhNodes[stack[--top]];
+    if (!boxReachable(node, origin, inverse, pad, best)) continue;
+    uint first = node.loFirst.w;
+    uint count = node.hiMeta.w & RT_BVH_COUNT_MASK;
+    if (count == 0u) {
+      bool negative = direction[node.hiMeta.w >> 30] < 0.0;
+      stack[top++] = first + (negative ? 0u : 1u);  // far child
+      stack[top++] = first + (negative ? 1u : 0u);  // near child, visited next
+      continue;
+    }
+    for (uint k = first; k < first + count; ++k) {
+      int index = int(bvhOrder[k]);
+      float t = intersectSphere(origin, direction, spheres[index].positionRadius);
+      if (t > EPS && (t < best || (t == best && index < bestIndex))) {
+        best = t;
+        bestIndex = index;
+      }
+    }
   }
-  return hit;
+  return hitRecord(origin, direction, best, bestIndex);
+}
+
+// The one spatial query of the shader; the variant is fixed per pipeline.
+Hit nearestHit(vec3 origin, vec3 direction) {
+  return USE_BVH ? nearestHitInBvh(origin, direction) : nearestHitOfAll(origin, direction);
 }
 
 // Shading (docs/render-model.md section 4) ===================================================

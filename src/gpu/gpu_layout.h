@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gpu_interface.h"
+#include "render/accel/bvh.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 
@@ -29,6 +30,19 @@ static_assert(offsetof(GPUSphere, position) == 0);
 static_assert(offsetof(GPUSphere, radius) == 12);
 static_assert(offsetof(GPUSphere, color) == 16);
 static_assert(offsetof(GPUSphere, pad) == 28);
+
+// The BVH goes to the shader as it is built: rt::BvhNode is already the
+// std430 layout the shader reads (two 16-byte halves, the uint after each
+// vec3), and the order array is plain uints.
+static_assert(sizeof(BvhNode) == 32);
+static_assert(offsetof(BvhNode, lo) == 0);
+static_assert(offsetof(BvhNode, first) == 12);
+static_assert(offsetof(BvhNode, hi) == 16);
+static_assert(offsetof(BvhNode, meta) == 28);
+static_assert(BvhNode::kCountMask == RT_BVH_COUNT_MASK);
+static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t));
+// The shader's traversal stack is sized by its copy of the depth limit.
+static_assert(RT_BVH_MAX_DEPTH == kBvhMaxDepth);
 
 // The push-constant block: camera, light, sphere count, image size and
 // shading parameters, all of which may change from frame to frame. Each vec3
@@ -75,6 +89,9 @@ struct SpecializationConstants {
   std::uint32_t twoPass;     // VkBool32
   std::uint32_t bounceExit;  // VkBool32
   std::int32_t maxDepth;
+  std::uint32_t useBvh = 0;  // VkBool32: --accel bvh
+  float bvhMaxRadius = 0.0f;       // Bvh::maxRadius and maxCoordinate, for the
+  float bvhMaxCoordinate = 0.0f;   // traversal pad; unused without the BVH
 };
 
 std::vector<GPUSphere> toGpuSpheres(std::span<const Sphere> spheres);

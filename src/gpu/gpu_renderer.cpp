@@ -1,6 +1,9 @@
 #include "gpu/gpu_renderer.h"
 
+#include <cstddef>
 #include <cstring>
+#include <optional>
+#include <span>
 #include <stdexcept>
 
 #include "core/profiler.h"
@@ -10,6 +13,7 @@
 #include "gpu/present_image.h"
 #include "gpu/raytrace_pipeline.h"
 #include "gpu/timestamps.h"
+#include "render/accel/bvh.h"
 
 namespace rt::gpu {
 namespace {
@@ -23,26 +27,51 @@ constexpr ImageState kShaderWrite{PipelineStage::eComputeShader, Access::eShader
 constexpr ImageState kTransferRead{PipelineStage::eTransfer, Access::eTransferRead,
                                         vk::ImageLayout::eTransferSrcOptimal};
 
-SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options) {
-  return {.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
-          .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
-          .maxDepth = scene.render.maxDepth};
+SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
+  SpecializationConstants constants{.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
+                                    .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
+                                    .maxDepth = scene.render.maxDepth};
+  if (bvh) {
+    constants.useBvh = VK_TRUE;
+    constants.bvhMaxRadius = bvh->maxRadius;
+    constants.bvhMaxCoordinate = bvh->maxCoordinate;
+  }
+  return constants;
 }
 
-// The spheres into device-local memory through a staging buffer: the
-// shader reads them for every ray, so they must not sit in host memory.
-void uploadSpheres(const Device& device, CommandRunner& runner, const Buffer& target,
-                   std::span<const GPUSphere> spheres) {
-  const Buffer staging(device, target.size(), vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::upload);
-  std::memcpy(staging.mapped().data(), spheres.data(), spheres.size_bytes());
+// `data` in a new device-local storage buffer, through a staging buffer:
+// the shader reads the scene for every ray, so it must not sit in host
+// memory. Waits for the copy; the staging buffer goes on return.
+template <typename T>
+Buffer uploadStorage(const Device& device, CommandRunner& runner, std::span<const T> data) {
+  const std::span<const std::byte> bytes = std::as_bytes(data);
+  Buffer target(device, bytes.size(), vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+                MemoryUse::deviceLocal);
+  const Buffer staging(device, bytes.size(), vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::upload);
+  std::memcpy(staging.mapped().data(), bytes.data(), bytes.size());
   staging.flushHostWrites();
   runner.run("scene upload", [&](const vk::raii::CommandBuffer& cb) {
-    cb.copyBuffer(staging.handle(), target.handle(), vk::BufferCopy{.size = spheres.size_bytes()});
-    // The spheres are written before any dispatch reads them.
+    cb.copyBuffer(staging.handle(), target.handle(), vk::BufferCopy{.size = bytes.size()});
+    // The data is written before any dispatch reads it.
     bufferBarrier(cb, target.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
-                       PipelineStage::eComputeShader, Access::eShaderRead);
+                  PipelineStage::eComputeShader, Access::eShaderRead);
   });
+  return target;
 }
+
+std::optional<Bvh> bvhFor(const Scene& scene, const RenderOptions& options) {
+  if (options.accel != Accel::bvh) return std::nullopt;
+  return buildBvh(scene.spheres);
+}
+
+// The BVH's nodes and sphere order on the device (--accel bvh only).
+struct BvhBuffers {
+  BvhBuffers(const Device& device, CommandRunner& runner, const Bvh& bvh)
+      : nodes(uploadStorage(device, runner, std::span(bvh.nodes))),
+        order(uploadStorage(device, runner, std::span(bvh.order))) {}
+  Buffer nodes;
+  Buffer order;
+};
 
 }  // namespace
 
@@ -62,27 +91,36 @@ struct GPURenderer::SceneObjects {
   SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& options, PresentMode mode)
       : scene(s),
         extent(e),
-        pipeline(d.device, specializationFor(s, options)),
-        spheres(d.device, sizeof(GPUSphere) * s.spheres.size(),
-                vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
-                MemoryUse::deviceLocal),
+        bvh(bvhFor(s, options)),
+        pipeline(d.device, specializationFor(s, options, bvh ? &*bvh : nullptr)),
+        spheres(uploadStorage(d.device, d.runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
+        bvhBuffers(bvh ? std::make_optional<BvhBuffers>(d.device, d.runner, *bvh) : std::nullopt),
         output(d.device, e,
                vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc),
-        bindings(d.device, pipeline, spheres, output),
+        bindings(d.device, pipeline, sceneBuffers(), output),
         readback(d.device, frameBytes(e), vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback) {
-    uploadSpheres(d.device, d.runner, spheres, toGpuSpheres(s.spheres));
     if (mode == PresentMode::upload) presentImage.emplace(d.device, d.runner, e);
   }
 
   const Scene& scene;
   Extent extent;
+  std::optional<Bvh> bvh;  // --accel bvh; its bounds went into the pipeline
   RaytracePipeline pipeline;
   Buffer spheres;
+  std::optional<BvhBuffers> bvhBuffers;  // --accel bvh only
   DeviceImage output;
   RaytraceBindings bindings;
   Buffer readback;
   std::optional<PresentImage> presentImage;  // mode upload only
   vk::ImageLayout outputLayout = vk::ImageLayout::eUndefined;  // as the last submitted commands left it
+
+  // The buffers the shader binds. Without a BVH the spheres stand in for
+  // it: a descriptor must name a live buffer, and the brute-force pipeline
+  // never reads those slots.
+  [[nodiscard]] SceneBuffers sceneBuffers() const {
+    if (!bvhBuffers) return {spheres.handle(), spheres.handle(), spheres.handle()};
+    return {spheres.handle(), bvhBuffers->nodes.handle(), bvhBuffers->order.handle()};
+  }
 
   // Records the output's move from the shader's writes to copies' reads, once per frame.
   void recordOutputReadable(const vk::raii::CommandBuffer& cb) {

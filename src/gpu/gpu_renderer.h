@@ -23,8 +23,9 @@ class GPURenderer final : public Renderer {
   ~GPURenderer() override;
 
   [[nodiscard]] RendererInfo info() const override;
-  // Builds the pipeline variant (algorithm and bounce exit are
-  // specialization constants), uploads the spheres, sizes the images.
+  // Builds the pipeline variant (algorithm, bounce exit and --accel are
+  // specialization constants), uploads the spheres (and with --accel bvh
+  // builds and uploads their BVH), sizes the images.
   void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override;
   // Records, submits and waits for the dispatch; GPU timestamps around it.
   void render(const CameraFrame& camera) override;

@@ -9,24 +9,34 @@
 namespace rt::gpu {
 namespace {
 
-constexpr std::array<vk::DescriptorSetLayoutBinding, 2> kBindings{{
-    {.binding = RT_BINDING_SPHERES,
-     .descriptorType = vk::DescriptorType::eStorageBuffer,
-     .descriptorCount = 1,
-     .stageFlags = vk::ShaderStageFlagBits::eCompute},
+constexpr vk::DescriptorSetLayoutBinding storageBufferBinding(std::uint32_t binding) {
+  return {.binding = binding,
+          .descriptorType = vk::DescriptorType::eStorageBuffer,
+          .descriptorCount = 1,
+          .stageFlags = vk::ShaderStageFlagBits::eCompute};
+}
+
+constexpr std::array<vk::DescriptorSetLayoutBinding, 4> kBindings{{
+    storageBufferBinding(RT_BINDING_SPHERES),
     {.binding = RT_BINDING_OUTPUT,
      .descriptorType = vk::DescriptorType::eStorageImage,
      .descriptorCount = 1,
      .stageFlags = vk::ShaderStageFlagBits::eCompute},
+    storageBufferBinding(RT_BINDING_BVH_NODES),
+    storageBufferBinding(RT_BINDING_BVH_ORDER),
 }};
+constexpr std::uint32_t kStorageBufferBindings = 3;
 
 constexpr vk::PushConstantRange kPushConstants{
     .stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = sizeof(FrameConstants)};
 
-constexpr std::array<vk::SpecializationMapEntry, 3> kSpecializationEntries{{
+constexpr std::array<vk::SpecializationMapEntry, 6> kSpecializationEntries{{
     {RT_SPEC_TWO_PASS, offsetof(SpecializationConstants, twoPass), sizeof(std::uint32_t)},
     {RT_SPEC_BOUNCE_EXIT, offsetof(SpecializationConstants, bounceExit), sizeof(std::uint32_t)},
     {RT_SPEC_MAX_DEPTH, offsetof(SpecializationConstants, maxDepth), sizeof(std::int32_t)},
+    {RT_SPEC_USE_BVH, offsetof(SpecializationConstants, useBvh), sizeof(std::uint32_t)},
+    {RT_SPEC_BVH_MAX_RADIUS, offsetof(SpecializationConstants, bvhMaxRadius), sizeof(float)},
+    {RT_SPEC_BVH_MAX_COORDINATE, offsetof(SpecializationConstants, bvhMaxCoordinate), sizeof(float)},
 }};
 
 vk::raii::DescriptorSetLayout createSetLayout(const Device& device) {
@@ -76,11 +86,11 @@ void RaytracePipeline::recordBind(const vk::raii::CommandBuffer& cb, vk::Descrip
   cb.pushConstants<FrameConstants>(*layout_, vk::ShaderStageFlagBits::eCompute, 0, constants);
 }
 
-RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const Buffer& spheres,
+RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const SceneBuffers& buffers,
                                    const DeviceImage& output)
     : pool_(device.logical(), [] {
-        static constexpr std::array<vk::DescriptorPoolSize, 2> kSizes{{{vk::DescriptorType::eStorageBuffer, 1},
-                                                                       {vk::DescriptorType::eStorageImage, 1}}};
+        static constexpr std::array<vk::DescriptorPoolSize, 2> kSizes{
+            {{vk::DescriptorType::eStorageBuffer, kStorageBufferBindings}, {vk::DescriptorType::eStorageImage, 1}}};
         // FreeDescriptorSet: the RAII set frees itself before the pool goes.
         return vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
                                             .maxSets = 1,
@@ -93,20 +103,27 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
                                                                                 .pSetLayouts = &layout});
   set_ = std::move(sets.front());
 
-  const vk::DescriptorBufferInfo sphereInfo{.buffer = spheres.handle(), .offset = 0, .range = VK_WHOLE_SIZE};
+  const auto whole = [](vk::Buffer buffer) {
+    return vk::DescriptorBufferInfo{.buffer = buffer, .offset = 0, .range = VK_WHOLE_SIZE};
+  };
+  const std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{
+      whole(buffers.spheres), whole(buffers.bvhNodes), whole(buffers.bvhOrder)};
+  const std::array<std::uint32_t, kStorageBufferBindings> bufferSlots{RT_BINDING_SPHERES, RT_BINDING_BVH_NODES,
+                                                                     RT_BINDING_BVH_ORDER};
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};
-  const std::array<vk::WriteDescriptorSet, 2> writes{{
-      {.dstSet = *set_,
-       .dstBinding = RT_BINDING_SPHERES,
-       .descriptorCount = 1,
-       .descriptorType = vk::DescriptorType::eStorageBuffer,
-       .pBufferInfo = &sphereInfo},
-      {.dstSet = *set_,
-       .dstBinding = RT_BINDING_OUTPUT,
-       .descriptorCount = 1,
-       .descriptorType = vk::DescriptorType::eStorageImage,
-       .pImageInfo = &imageInfo},
-  }};
+  std::array<vk::WriteDescriptorSet, kStorageBufferBindings + 1> writes{};
+  for (std::size_t i = 0; i < kStorageBufferBindings; ++i) {
+    writes[i] = {.dstSet = *set_,
+                 .dstBinding = bufferSlots[i],
+                 .descriptorCount = 1,
+                 .descriptorType = vk::DescriptorType::eStorageBuffer,
+                 .pBufferInfo = &bufferInfos[i]};
+  }
+  writes.back() = {.dstSet = *set_,
+                   .dstBinding = RT_BINDING_OUTPUT,
+                   .descriptorCount = 1,
+                   .descriptorType = vk::DescriptorType::eStorageImage,
+                   .pImageInfo = &imageInfo};
   device.logical().updateDescriptorSets(writes, {});
 }
 

@@ -17,8 +17,8 @@ constexpr std::uint32_t workgroupCount(int pixels, int groupSize) {
   return static_cast<std::uint32_t>((pixels + groupSize - 1) / groupSize);
 }
 
-// The compute pipeline of one variant (algorithm, bounce exit, maxDepth as
-// specialization constants) with its set and pipeline layouts.
+// The compute pipeline of one variant (algorithm, bounce exit, maxDepth and
+// the BVH as specialization constants) with its set and pipeline layouts.
 class RaytracePipeline {
  public:
   RaytracePipeline(const Device& device, const SpecializationConstants& constants);
@@ -33,10 +33,19 @@ class RaytracePipeline {
   vk::raii::Pipeline pipeline_;
 };
 
-// The descriptor set that binds a sphere buffer and an output image.
+// The storage buffers the shader reads. Without a BVH its two slots name
+// the sphere buffer: a descriptor must point at a live buffer, and that
+// pipeline never reads them.
+struct SceneBuffers {
+  vk::Buffer spheres;
+  vk::Buffer bvhNodes;
+  vk::Buffer bvhOrder;
+};
+
+// The descriptor set that binds the scene's buffers and an output image.
 class RaytraceBindings {
  public:
-  RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const Buffer& spheres,
+  RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const SceneBuffers& buffers,
                    const DeviceImage& output);
   [[nodiscard]] vk::DescriptorSet set() const { return *set_; }
 
