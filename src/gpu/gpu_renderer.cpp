@@ -59,9 +59,10 @@ Buffer uploadStorage(const Device& device, CommandRunner& runner, std::span<cons
   return target;
 }
 
-std::optional<Bvh> bvhFor(const Scene& scene, const RenderOptions& options) {
-  if (options.accel != Accel::bvh) return std::nullopt;
-  return buildBvh(scene.spheres);
+AccelStructure accelFor(const Scene& scene, const RenderOptions& options) {
+  AccelStructure accel;
+  accel.prepare(scene.spheres, options.accel);
+  return accel;
 }
 
 // The BVH's nodes and sphere order on the device (--accel bvh only).
@@ -91,10 +92,10 @@ struct GPURenderer::SceneObjects {
   SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& options, PresentMode mode)
       : scene(s),
         extent(e),
-        bvh(bvhFor(s, options)),
-        pipeline(d.device, specializationFor(s, options, bvh ? &*bvh : nullptr)),
+        accel(accelFor(s, options)),
+        pipeline(d.device, specializationFor(s, options, accel.bvh())),
         spheres(uploadStorage(d.device, d.runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
-        bvhBuffers(bvh ? std::make_optional<BvhBuffers>(d.device, d.runner, *bvh) : std::nullopt),
+        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d.device, d.runner, *accel.bvh()) : std::nullopt),
         output(d.device, e,
                vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc),
         bindings(d.device, pipeline, sceneBuffers(), output),
@@ -104,7 +105,7 @@ struct GPURenderer::SceneObjects {
 
   const Scene& scene;
   Extent extent;
-  std::optional<Bvh> bvh;  // --accel bvh; its bounds went into the pipeline
+  AccelStructure accel;  // the BVH with --accel bvh; its bounds went into the pipeline
   RaytracePipeline pipeline;
   Buffer spheres;
   std::optional<BvhBuffers> bvhBuffers;  // --accel bvh only
@@ -146,6 +147,7 @@ RendererInfo GPURenderer::info() const {
   info.kind = RendererKind::gpu;
   info.threads = 0;  // the device schedules the work
   info.lanes = 0;
+  if (scene_) info.accelStructure = scene_->accel.info();
   return info;
 }
 

@@ -119,3 +119,23 @@ def test_help_and_version(raytracer):
     assert "--save-frame" in run(raytracer, "--help").stdout
     version = run(raytracer, "--version")
     assert version.returncode == 0 and version.stdout.startswith("raytracer ")
+
+
+@pytest.mark.parametrize("flag", ["--sequential", "--simd"])
+def test_accel_is_recorded_with_the_structure_it_built(raytracer, repo_root, tmp_path, flag):
+    for accel in ("none", "bvh"):
+        csv_path = tmp_path / f"{accel}.csv"
+        done = run(raytracer, flag, repo_root / "scenes/random100.json", *SMALL, "--accel", accel, "--csv", csv_path)
+        assert done.returncode == 0, done.stderr
+        with csv_path.open(newline="") as f:
+            assert {r["accel"] for r in csv.DictReader(f)} == {accel}
+        meta = json.loads((tmp_path / f"{accel}.meta.json").read_text())
+        assert meta["config"]["accel"] == accel
+        structure = meta["accel_structure"]
+        if accel == "none":
+            assert structure is None
+        else:
+            # A binary tree that split the 100 spheres: an odd node count above 1.
+            assert structure["kind"] == "bvh" and structure["nodes"] > 1 and structure["nodes"] % 2 == 1
+            assert structure["build_ms"] > 0 and structure["depth"] >= 1
+    assert run(raytracer, flag, "--accel", "kd-tree", *SMALL).returncode == 2

@@ -109,6 +109,16 @@ def test_validated_gpu_run_records_gpu_time_and_the_device(raytracer, repo_root,
     assert frame.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_gpu_bvh_run_records_its_structure(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, "--gpu", repo_root / "scenes/random20.json", *SMALL, "--vk-validation", "--accel", "bvh",
+               "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    assert {r["accel"] for r in read_csv(csv_path)} == {"bvh"}
+    structure = json.loads((tmp_path / "run.meta.json").read_text())["accel_structure"]
+    assert structure["kind"] == "bvh" and structure["nodes"] > 1
+
+
 def test_cpu_renderer_uploads_by_default_when_a_device_opens(raytracer, repo_root, tmp_path):
     csv_path = tmp_path / "run.csv"
     done = run(raytracer, "--sequential", repo_root / "scenes/default.json", *SMALL, "--vk-validation",
