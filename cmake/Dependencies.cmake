@@ -56,6 +56,17 @@ if(RT_BUILD_TESTS)
   rt_require_package(GTest libgtest-dev)
 endif()
 
+# Embree 3, for the Embree reference renderer (--embree): optional. On by
+# default where it is found; asked for and missing stops the configure step.
+# Off, the renderer stays in the schema and answers "not built" (exit 2).
+find_package(embree 3 QUIET)
+option(RT_EMBREE "Build the Embree reference renderer (--embree)" ${embree_FOUND})
+if(RT_EMBREE AND NOT embree_FOUND)
+  message(FATAL_ERROR
+    "RT_EMBREE is ON but Embree 3 was not found. On Debian/Ubuntu: apt-get install libembree-dev"
+    " (or run scripts/setup-debian as root), or configure with -DRT_EMBREE=OFF.")
+endif()
+
 # Versions recorded in every run's metadata (the ones this binary was built against).
 set(RT_LIBRARY_VERSIONS
   "glm=${glm_VERSION}"
@@ -66,3 +77,6 @@ set(RT_LIBRARY_VERSIONS
   "hwy=${hwy_VERSION}"
   "vulkan_headers=${Vulkan_VERSION}"
   "glslang=${RT_GLSLANG_VERSION}")
+if(RT_EMBREE)
+  list(APPEND RT_LIBRARY_VERSIONS "embree=${embree_VERSION}")
+endif()

@@ -3,6 +3,9 @@
 #include "render/cpu_renderers.h"
 #include "render/schedule/tbb_scheduler.h"
 #include "render/simd/simd_kernel.h"
+#ifdef RT_HAVE_EMBREE
+#include "render/embree/embree_kernel.h"
+#endif
 
 namespace rt {
 namespace {
@@ -19,6 +22,23 @@ std::unique_ptr<Renderer> withScheduler(Scheduler scheduler, const ParallelSetti
   throw std::logic_error("unknown scheduler");
 }
 
+// The Embree kernel pairs with oneTBB only (the schema has no serial row
+// for it), so only that pair is instantiated; without RT_EMBREE it is
+// absent from this build, and asking for it is the user's error (exit 2).
+std::unique_ptr<Renderer> makeEmbreeRenderer(RendererKind kind, const ParallelSettings& settings,
+                                             std::unique_ptr<FrameSink> sink) {
+#ifdef RT_HAVE_EMBREE
+  static_assert(CpuRenderer<EmbreeKernel, TbbScheduler>::kKind == RendererKind::embree);
+  if (kind != RendererKind::embree) throw std::logic_error("the Embree kernel runs only as renderer 'embree'");
+  return std::make_unique<CpuRenderer<EmbreeKernel, TbbScheduler>>(settings, std::move(sink));
+#else
+  (void)settings;
+  (void)sink;
+  throw RendererUnavailable("renderer '" + std::string(nameOf(kind)) +
+                            "' is not built in this version (configure with RT_EMBREE=ON; Debian: libembree-dev)");
+#endif
+}
+
 }  // namespace
 
 std::unique_ptr<Renderer> makeCpuRenderer(RendererKind kind, const ParallelSettings& settings,
@@ -32,6 +52,8 @@ std::unique_ptr<Renderer> makeCpuRenderer(RendererKind kind, const ParallelSetti
       return withScheduler<ScalarKernel>(*pair.scheduler, settings, std::move(sink));
     case Kernel::simd:
       return withScheduler<SimdKernel>(*pair.scheduler, settings, std::move(sink));
+    case Kernel::embree:
+      return makeEmbreeRenderer(kind, settings, std::move(sink));
   }
   throw std::logic_error("unknown kernel");
 }
