@@ -41,6 +41,15 @@ std::unique_ptr<Renderer> makeEmbreeRenderer(RendererKind kind, const ParallelSe
 
 }  // namespace
 
+bool cpuRendererBuilt(RendererKind kind) {
+  const auto& pair = definitionOf(kind);
+  if (!pair.kernel) return false;
+#ifndef RT_HAVE_EMBREE
+  if (*pair.kernel == Kernel::embree) return false;
+#endif
+  return true;
+}
+
 std::unique_ptr<Renderer> makeCpuRenderer(RendererKind kind, const ParallelSettings& settings,
                                           std::unique_ptr<FrameSink> sink) {
   const schema::RendererDefinition& pair = definitionOf(kind);

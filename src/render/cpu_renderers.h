@@ -15,6 +15,10 @@ static_assert(SequentialRenderer::kKind == RendererKind::sequential);
 // scheduler) pair. Throws RendererUnavailable for a renderer that does not
 // run on the CPU, LanesUnsupported or std::invalid_argument for settings
 // its kernel or scheduler rejects.
+// Whether this build has the CPU renderer `kind` (the Embree reference only
+// with RT_EMBREE); false for renderers that do not run on the CPU.
+bool cpuRendererBuilt(RendererKind kind);
+
 std::unique_ptr<Renderer> makeCpuRenderer(RendererKind kind, const ParallelSettings& settings = {},
                                           std::unique_ptr<FrameSink> sink = nullptr);
 

@@ -98,6 +98,8 @@ def test_every_schema_renderer_runs_under_its_flag(raytracer, repo_root, name, t
     flag = schema.renderer_flags()[name]
     csv_path = tmp_path / "x.csv"
     done = run(raytracer, flag, repo_root / "scenes/default.json", *SMALL, "--csv", csv_path)
+    if done.returncode == 2 and "is not built in this version" in done.stderr:
+        pytest.skip(f"{name} is not built in this binary (an optional dependency)")
     assert done.returncode == 0, done.stderr
     with csv_path.open(newline="") as f:
         assert {r["renderer"] for r in csv.DictReader(f)} == {name}

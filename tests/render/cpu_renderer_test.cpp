@@ -158,7 +158,7 @@ TEST(RendererInfo, ReportsTheParallelSettings) {
 TEST(CpuRendererFactory, BuildsThePairTheSchemaNames) {
   for (std::size_t i = 0; i < schema::kRendererDefinitions.size(); ++i) {
     const auto kind = static_cast<RendererKind>(i);
-    if (!definitionOf(kind).kernel) {
+    if (!cpuRendererBuilt(kind)) {
       EXPECT_THROW(makeCpuRenderer(kind), RendererUnavailable) << nameOf(kind);
       continue;
     }

@@ -33,7 +33,7 @@ namespace {
 TEST(NoAllocation, FramePhasesOfEveryCpuRenderer) {
   for (std::size_t i = 0; i < schema::kRendererDefinitions.size(); ++i) {
     const auto kind = static_cast<RendererKind>(i);
-    if (!definitionOf(kind).kernel) continue;
+    if (!cpuRendererBuilt(kind)) continue;
     for (const char* name : test::kSceneNames) {
       const Scene scene = test::loadNamedScene(name);
       for (const Stage stage : {Stage::original, Stage::single_pass, Stage::optimized}) {
