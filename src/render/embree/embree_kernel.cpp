@@ -154,6 +154,20 @@ void startPacket(const FrameData& f, Slot& s, int y, int x, int count) {
   }
 }
 
+// Traces the packet depth by depth, up to maxDepth (with the bounce exit,
+// until no lane is live), and hands each live lane to visit(depth, i, lane).
+template <int W, bool kBounceExit, typename Visit>
+void forEachDepth(const FrameData& f, Slot& s, const Visit& visit) {
+  for (int depth = 0; depth < f.inputs.maxDepth; ++depth) {
+    if (kBounceExit && !anyLive(s)) break;
+    tracePacket<W>(f, s, depth == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
+    for (int i = 0; i < W; ++i) {
+      Lane& lane = s.lanes[static_cast<std::size_t>(i)];
+      if (lane.live) visit(depth, i, lane);
+    }
+  }
+}
+
 // Section 5's single-pass loop, per lane, as kernel::traceSinglePass does
 // it with Embree's hits. Without the bounce exit a lane that missed stays
 // in the packet and is traced again with zero throughput (it misses again,
@@ -161,28 +175,22 @@ void startPacket(const FrameData& f, Slot& s, int y, int x, int count) {
 template <int W, bool kBounceExit>
 void traceSinglePass(const FrameData& f, Slot& s) {
   const kernel::ShadingInputs<float>& in = f.inputs;
-  for (int depth = 0; depth < in.maxDepth; ++depth) {
-    if (kBounceExit && !anyLive(s)) break;
-    tracePacket<W>(f, s, depth == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
-    for (int i = 0; i < W; ++i) {
-      Lane& lane = s.lanes[static_cast<std::size_t>(i)];
-      if (!lane.live) continue;
-      const RaycastHit<float> hit = hitOf<W>(f, s, i);
-      if (!hit.hit()) {
-        lane.color += lane.throughput * in.background;
-        if constexpr (kBounceExit) {
-          lane.live = false;
-        } else {
-          lane.throughput = Vec3<float>(0);
-        }
-        continue;
+  forEachDepth<W, kBounceExit>(f, s, [&](int /*depth*/, int i, Lane& lane) {
+    const RaycastHit<float> hit = hitOf<W>(f, s, i);
+    if (!hit.hit()) {
+      lane.color += lane.throughput * in.background;
+      if constexpr (kBounceExit) {
+        lane.live = false;
+      } else {
+        lane.throughput = Vec3<float>(0);
       }
-      const Vec3<float> sphereColor = colorOf(f, hit.sphere);
-      lane.color += lane.throughput * kernel::localColor(in, hit, lane.ray.direction, sphereColor);
-      lane.throughput *= in.reflectivity * sphereColor;
-      lane.ray = kernel::reflectedRay(lane.ray, hit);
+      return;
     }
-  }
+    const Vec3<float> sphereColor = colorOf(f, hit.sphere);
+    lane.color += lane.throughput * kernel::localColor(in, hit, lane.ray.direction, sphereColor);
+    lane.throughput *= in.reflectivity * sphereColor;
+    lane.ray = kernel::reflectedRay(lane.ray, hit);
+  });
 }
 
 // Section 5's backward pass over lane i's stored segments, the same fold
@@ -209,24 +217,18 @@ Vec3<float> foldSegments(const kernel::ShadingInputs<float>& in, std::span<const
 template <int W, bool kBounceExit>
 void traceTwoPass(const FrameData& f, Slot& s, std::span<PathSegment<float>> segments) {
   const kernel::ShadingInputs<float>& in = f.inputs;
-  for (int depth = 0; depth < in.maxDepth; ++depth) {
-    if (kBounceExit && !anyLive(s)) break;
-    tracePacket<W>(f, s, depth == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
-    for (int i = 0; i < W; ++i) {
-      Lane& lane = s.lanes[static_cast<std::size_t>(i)];
-      if (!lane.live) continue;
-      PathSegment<float>& seg = segments[static_cast<std::size_t>(depth * W + i)];
-      seg.ray = lane.ray;
-      seg.hit = hitOf<W>(f, s, i);
-      lane.segments = depth + 1;
-      if (!seg.hit.hit()) {
-        if constexpr (kBounceExit) lane.live = false;
-        continue;
-      }
-      seg.sphereColor = colorOf(f, seg.hit.sphere);
-      lane.ray = kernel::reflectedRay(lane.ray, seg.hit);
+  forEachDepth<W, kBounceExit>(f, s, [&](int depth, int i, Lane& lane) {
+    PathSegment<float>& seg = segments[static_cast<std::size_t>(depth * W + i)];
+    seg.ray = lane.ray;
+    seg.hit = hitOf<W>(f, s, i);
+    lane.segments = depth + 1;
+    if (!seg.hit.hit()) {
+      if constexpr (kBounceExit) lane.live = false;
+      return;
     }
-  }
+    seg.sphereColor = colorOf(f, seg.hit.sphere);
+    lane.ray = kernel::reflectedRay(lane.ray, seg.hit);
+  });
   for (int i = 0; i < W; ++i) {
     Lane& lane = s.lanes[static_cast<std::size_t>(i)];
     lane.color = foldSegments<W>(in, segments, i, lane.segments);
