@@ -186,10 +186,7 @@ void traceSinglePass(const FrameData& f, Slot& s) {
       }
       return;
     }
-    const Vec3<float> sphereColor = colorOf(f, hit.sphere);
-    lane.color += lane.throughput * kernel::localColor(in, hit, lane.ray.direction, sphereColor);
-    lane.throughput *= in.reflectivity * sphereColor;
-    lane.ray = kernel::reflectedRay(lane.ray, hit);
+    kernel::shadeBounce(in, hit, lane.ray, lane.color, lane.throughput);
   });
 }
 
@@ -200,12 +197,7 @@ Vec3<float> foldSegments(const kernel::ShadingInputs<float>& in, std::span<const
                          int count) {
   Vec3<float> acc(0);
   for (int d = count - 1; d >= 0; --d) {
-    const PathSegment<float>& seg = segments[static_cast<std::size_t>(d * W + i)];
-    if (seg.hit.hit()) {
-      acc = acc * in.reflectivity * seg.sphereColor + kernel::localColor(in, seg.hit, seg.ray.direction, seg.sphereColor);
-    } else {
-      acc = in.background;
-    }
+    acc = kernel::foldSegment(in, acc, segments[static_cast<std::size_t>(d * W + i)]);
   }
   return acc;
 }

@@ -64,6 +64,17 @@ inline Ray<Real> reflectedRay(const Ray<Real>& ray, const RaycastHit<Real>& hit)
   return {hit.position + n * kEpsilon<Real>, glm::normalize(d - Real(2) * glm::dot(d, n) * n)};
 }
 
+// A single-pass bounce that hit a sphere: its light joins the colour, its
+// colour filters the throughput, and the ray reflects.
+template <typename Real>
+inline void shadeBounce(const ShadingInputs<Real>& in, const RaycastHit<Real>& hit, Ray<Real>& ray, Vec3<Real>& color,
+                        Vec3<Real>& throughput) {
+  const Vec3<Real> sphereColor(in.spheres[static_cast<std::size_t>(hit.sphere)].color);
+  color += throughput * localColor(in, hit, ray.direction, sphereColor);
+  throughput *= in.reflectivity * sphereColor;
+  ray = reflectedRay(ray, hit);
+}
+
 // Single-pass: accumulate colour and throughput on the way down.
 template <typename Real, bool kBounceExit>
 inline Vec3<Real> traceSinglePass(const ShadingInputs<Real>& in, Ray<Real> ray) {
@@ -79,10 +90,7 @@ inline Vec3<Real> traceSinglePass(const ShadingInputs<Real>& in, Ray<Real> ray) 
       throughput = Vec3<Real>(0);
       continue;
     }
-    const Vec3<Real> sphereColor(in.spheres[static_cast<std::size_t>(hit.sphere)].color);
-    color += throughput * localColor(in, hit, ray.direction, sphereColor);
-    throughput *= in.reflectivity * sphereColor;
-    ray = reflectedRay(ray, hit);
+    shadeBounce(in, hit, ray, color, throughput);
   }
   return color;
 }
@@ -94,6 +102,14 @@ struct PathSegment {
   RaycastHit<Real> hit;
   Vec3<Real> sphereColor;
 };
+
+// One step of the two-pass backward pass: the light gathered behind
+// segment `s` (`acc`) seen through it.
+template <typename Real>
+inline Vec3<Real> foldSegment(const ShadingInputs<Real>& in, const Vec3<Real>& acc, const PathSegment<Real>& s) {
+  if (!s.hit.hit()) return in.background;
+  return acc * in.reflectivity * s.sphereColor + localColor(in, s.hit, s.ray.direction, s.sphereColor);
+}
 
 // Two-pass (the thesis' original): the forward pass stores every ray, hit
 // and sphere colour; the backward pass walks them from the last segment.
@@ -116,14 +132,7 @@ inline Vec3<Real> traceTwoPass(const ShadingInputs<Real>& in, Ray<Real> ray,
     ray = reflectedRay(ray, s.hit);
   }
   Vec3<Real> acc(0);
-  for (int i = count - 1; i >= 0; --i) {
-    const PathSegment<Real>& s = segments[static_cast<std::size_t>(i)];
-    if (s.hit.hit()) {
-      acc = acc * in.reflectivity * s.sphereColor + localColor(in, s.hit, s.ray.direction, s.sphereColor);
-    } else {
-      acc = in.background;
-    }
-  }
+  for (int i = count - 1; i >= 0; --i) acc = foldSegment(in, acc, segments[static_cast<std::size_t>(i)]);
   return acc;
 }
 
