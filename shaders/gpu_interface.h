@@ -25,11 +25,6 @@
 #define RT_SPEC_BVH_MAX_RADIUS 4
 #define RT_SPEC_BVH_MAX_COORDINATE 5
 
-// rt::BvhNode's encoding and the deepest tree the build makes, which sizes
-// the traversal stack; src/gpu/gpu_layout.h asserts both equal the C++ ones.
-#define RT_BVH_COUNT_MASK 0x3fffffffu
-#define RT_BVH_MAX_DEPTH 48
-
 // One invocation per pixel in 8x8 tiles: two 32-wide warps on NVIDIA, one
 // 64-wide wave on AMD, eight 8-wide rows for lavapipe's 256-bit vectors.
 #define RT_WORKGROUP_SIZE_X 8

@@ -5,6 +5,7 @@
 // function by function, in the same operation order, so that the GPU image
 // agrees with the sequential renderer (docs/render-model.md section 8). Change both together.
 
+#include "bvh_layout.h"
 #include "gpu_interface.h"
 #include "model_constants.h"
 
@@ -138,7 +139,8 @@ Hit nearestHitOfAll(vec3 origin, vec3 direction) {
 float traversalPad(vec3 origin) {
   vec3 a = abs(origin);
   float scale = max(max(a.x, a.y), a.z) + BVH_MAX_COORDINATE;
-  return 1e-5 * scale + 3e-3 * sqrt(BVH_MAX_RADIUS * scale) + 2e-3 * BVH_MAX_RADIUS + 1e-6;
+  return float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * sqrt(BVH_MAX_RADIUS * scale) +
+         float(RT_BVH_PAD_RADIUS) * BVH_MAX_RADIUS + float(RT_BVH_PAD_MIN);
 }
 
 // 1 / direction, with a zero component made tiny (sign kept, -0 included),

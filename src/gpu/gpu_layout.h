@@ -33,16 +33,14 @@ static_assert(offsetof(GPUSphere, pad) == 28);
 
 // The BVH goes to the shader as it is built: rt::BvhNode is already the
 // std430 layout the shader reads (two 16-byte halves, the uint after each
-// vec3), and the order array is plain uints.
+// vec3), and the order array is plain uints. Its encoding and depth limit
+// are shaders/bvh_layout.h's, which both sides include.
 static_assert(sizeof(BvhNode) == 32);
 static_assert(offsetof(BvhNode, lo) == 0);
 static_assert(offsetof(BvhNode, first) == 12);
 static_assert(offsetof(BvhNode, hi) == 16);
 static_assert(offsetof(BvhNode, meta) == 28);
-static_assert(BvhNode::kCountMask == RT_BVH_COUNT_MASK);
 static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t));
-// The shader's traversal stack is sized by its copy of the depth limit.
-static_assert(RT_BVH_MAX_DEPTH == kBvhMaxDepth);
 
 // The push-constant block: camera, light, sphere count, image size and
 // shading parameters, all of which may change from frame to frame. Each vec3

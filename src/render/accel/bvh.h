@@ -12,6 +12,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "bvh_layout.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -27,7 +28,7 @@ struct BvhNode {
   [[nodiscard]] std::uint32_t count() const { return meta & kCountMask; }
   [[nodiscard]] int axis() const { return static_cast<int>(meta >> 30); }
 
-  static constexpr std::uint32_t kCountMask = (1u << 30) - 1;
+  static constexpr std::uint32_t kCountMask = RT_BVH_COUNT_MASK;
 };
 static_assert(sizeof(BvhNode) == 32);
 
@@ -47,11 +48,12 @@ struct Bvh {
 // by as much. Grows with the ray origin's largest |coordinate|.
 inline float traversalPad(const Bvh& bvh, float originMaxCoordinate) {
   const float scale = originMaxCoordinate + bvh.maxCoordinate;
-  return 1e-5f * scale + 3e-3f * std::sqrt(bvh.maxRadius * scale) + 2e-3f * bvh.maxRadius + 1e-6f;
+  return float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * std::sqrt(bvh.maxRadius * scale) +
+         float(RT_BVH_PAD_RADIUS) * bvh.maxRadius + float(RT_BVH_PAD_MIN);
 }
 
 // Deepest tree a traversal stack must hold (the build stops splitting there).
-inline constexpr int kBvhMaxDepth = 48;
+inline constexpr int kBvhMaxDepth = RT_BVH_MAX_DEPTH;
 // Spheres a leaf holds at most unless they cannot be told apart (coincident centres).
 inline constexpr std::uint32_t kBvhMaxLeafSize = 4;
 

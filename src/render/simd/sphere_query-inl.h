@@ -89,8 +89,9 @@ template <class D>
 HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
   const VecF<D> scale = hn::Max(hn::Abs(origin.x), hn::Max(hn::Abs(origin.y), hn::Abs(origin.z))) +
                         hn::Set(d, bvh.maxCoordinate);
-  return hn::Set(d, 1e-5f) * scale + hn::Set(d, 3e-3f) * hn::Sqrt(hn::Set(d, bvh.maxRadius) * scale) +
-         hn::Set(d, 2e-3f * bvh.maxRadius + 1e-6f);
+  return hn::Set(d, float(RT_BVH_PAD_SCALE)) * scale +
+         hn::Set(d, float(RT_BVH_PAD_TANGENT)) * hn::Sqrt(hn::Set(d, bvh.maxRadius) * scale) +
+         hn::Set(d, float(RT_BVH_PAD_RADIUS) * bvh.maxRadius + float(RT_BVH_PAD_MIN));
 }
 
 // With a BVH: the packet walks the tree together, visiting a node while
