@@ -115,6 +115,8 @@ Hit hitRecord(vec3 origin, vec3 direction, float t, int index) {
     vec4 s = spheres[index].positionRadius;
     hit.position = origin + t * direction;
     hit.normal = (hit.position - s.xyz) / s.w;
+    // docs/render-model.md section 4: a ray leaving the sphere sees its inside.
+    if (dot(direction, hit.normal) > 0.0) hit.normal = -hit.normal;
   }
   return hit;
 }

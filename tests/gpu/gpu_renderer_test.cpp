@@ -12,6 +12,7 @@
 #include "gpu/gpu_renderer.h"
 #include "render/accel/accel_scenes.h"
 #include "render/cpu_renderers.h"
+#include "render/scalar/double_reference.h"
 #include "test_support.h"
 
 namespace rt::test {
@@ -72,6 +73,20 @@ TEST_P(GpuAgreement, AgreesWithTheSequentialRenderer) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllScenesAlgorithmsAndSizes, GpuAgreement, ::testing::ValuesIn(allCases()), testName);
+
+// Rays that leave a sphere from inside use the normal facing them
+// (docs/render-model.md section 4), as the double reference does.
+TEST_F(GpuAgreement, CameraInsideASphereAgreesWithDoublePrecision) {
+  const Scene scene = cameraInsideSky();
+  for (const Algorithm algorithm : {Algorithm::single_pass, Algorithm::two_pass}) {
+    const RenderOptions options = optionsFor(algorithm, true);
+    gpu::GPURenderer gpu(context(), PresentMode::upload);
+    const Image actual = renderFrame(gpu, scene, {96, 64}, options, kFrame);
+    const Image expected = renderDoubleReference(scene, cameraAtFrame(scene.camera, kFrame), {96, 64}, options);
+    const ImageAgreement agreement = compareImages(actual, expected);
+    EXPECT_TRUE(agreement.agrees()) << nameOf(algorithm) << ": " << describe(agreement);
+  }
+}
 
 // --accel bvh against --accel none on the GPU ================================
 

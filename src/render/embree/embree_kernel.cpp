@@ -119,7 +119,7 @@ void tracePacket(const FrameData& f, Slot& s, RTCIntersectContextFlags coherence
 
 // Lane i's hit as our model records it: Embree gives the distance (tfar)
 // and the sphere (primID: the one geometry's primitives are the scene's
-// spheres in order); position and outward normal are computed from them as
+// spheres in order); position and normal (facing the ray) are computed from them as
 // section 3 does, not taken from Embree's unnormalised Ng.
 template <int W>
 RaycastHit<float> hitOf(const FrameData& f, Slot& s, int i) {

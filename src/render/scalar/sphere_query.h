@@ -41,6 +41,8 @@ inline RaycastHit<Real> hitRecord(const Ray<Real>& ray, std::span<const Sphere> 
     hit.distance = t;
     hit.position = ray.origin + t * ray.direction;
     hit.normal = (hit.position - Vec3<Real>(s.position)) / static_cast<Real>(s.radius);
+    // docs/render-model.md section 4: a ray leaving the sphere sees its inside.
+    if (glm::dot(ray.direction, hit.normal) > Real(0)) hit.normal = -hit.normal;
   }
   return hit;
 }

@@ -108,6 +108,14 @@ HWY_INLINE Vec3x<D> Gather3(D d, const float* x, const float* y, const float* z,
   return {hn::GatherIndex(d, x, i), hn::GatherIndex(d, y, i), hn::GatherIndex(d, z, i)};
 }
 
+// docs/render-model.md section 4: where the ray leaves the sphere (it
+// started inside) the normal is turned to the side the ray sees.
+template <class D>
+HWY_INLINE Vec3x<D> FacingRay(D d, const Vec3x<D>& n, const Vec3x<D>& direction) {
+  const MaskF<D> leaving = Dot(direction, n) > hn::Zero(d);
+  return Select(leaving, hn::Set(d, -1.0f) * n, n);
+}
+
 // Out of line: the sphere loop is the bulk of the code, and this way it is
 // compiled 4 times per packet width, not once for each of the 16 variants
 // (the call costs nothing next to a loop over the scene's spheres).
@@ -123,7 +131,7 @@ HWY_NOINLINE HitX<D> Raycast(D d, const SphereArrays& s, const RayX<D>& ray, Mas
   h.distance = hn::IfThenElseZero(h.hit, bestT);
   h.position = ray.origin + h.distance * ray.direction;
   const Vec3x<D> center = Gather3(d, s.centerX, s.centerY, s.centerZ, index);
-  h.normal = (h.position - center) / hn::GatherIndex(d, s.radius, index);
+  h.normal = FacingRay(d, (h.position - center) / hn::GatherIndex(d, s.radius, index), ray.direction);
   h.sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index);
   return h;
 }

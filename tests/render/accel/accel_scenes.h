@@ -43,6 +43,22 @@ inline std::vector<Sphere> randomSpheres(std::uint32_t count, float halfWidth, f
   return spheres;
 }
 
+// A large "sky" sphere around small ones, and the same with the camera
+// inside the sky among the small ones: there every secondary ray that
+// misses the small spheres leaves the sky from inside (docs/render-model.md
+// section 4, the normal facing the ray).
+inline Scene skyAroundSmallSpheres() {
+  std::vector<Sphere> sky{{{0, 0, 0}, 50, {0.8f, 0.8f, 0.8f}}};
+  for (const Sphere& s : randomSpheres(60, 4, 0.3f)) sky.push_back(s);
+  return withSpheres(sky);
+}
+
+inline Scene cameraInsideSky() {
+  Scene inside = skyAroundSmallSpheres();
+  inside.camera.position = {0.0, 0.5, -3.0};
+  return inside;
+}
+
 inline std::vector<NamedScene> adversarialScenes() {
   std::vector<NamedScene> scenes;
   const glm::vec3 red{0.9f, 0.2f, 0.2f}, blue{0.2f, 0.4f, 0.9f}, grey{0.8f};
@@ -54,12 +70,8 @@ inline std::vector<NamedScene> adversarialScenes() {
   std::vector<Sphere> touching;
   for (int i = 0; i < 12; ++i) touching.push_back({{-5.5f + static_cast<float>(i), 0, 0}, 0.5f, i % 2 ? red : blue});
   scenes.push_back({"touching", withSpheres(touching)});
-  std::vector<Sphere> sky{{{0, 0, 0}, 50, grey}};
-  for (const Sphere& s : randomSpheres(60, 4, 0.3f)) sky.push_back(s);
-  scenes.push_back({"huge-around-small", withSpheres(sky)});
-  Scene inside = withSpheres(sky);
-  inside.camera.position = {0.0, 0.5, -3.0};  // inside the big sphere, among the small ones
-  scenes.push_back({"camera-inside", inside});
+  scenes.push_back({"huge-around-small", skyAroundSmallSpheres()});
+  scenes.push_back({"camera-inside", cameraInsideSky()});
   scenes.push_back({"random1000", withSpheres(randomSpheres(1000, 12, 0.4f))});
   return scenes;
 }

@@ -14,7 +14,8 @@ RaycastHit<float> nearestAlongZ(const std::vector<Sphere>& spheres) {
 }
 
 // A ray from the origin along +z against one sphere: where it hits, and the
-// outward normal there.
+// normal there, which faces the ray (docs/render-model.md section 4): outward
+// where the ray enters, inward where it leaves.
 struct SingleSphereCase {
   const char* what;
   Sphere sphere;
@@ -25,7 +26,7 @@ struct SingleSphereCase {
 TEST(Intersection, SingleSphereHitsWhereTheModelSays) {
   const SingleSphereCase cases[] = {
       {"from outside: the near side", sphereAt({0, 0, 5}, 1), 4.0f, {0, 0, -1}},
-      {"from inside: the far side", sphereAt({0, 0, 0}, 2), 2.0f, {0, 0, 1}},
+      {"from inside: the far side, normal turned inward", sphereAt({0, 0, 0}, 2), 2.0f, {0, 0, -1}},
       {"tangent: the touching point", sphereAt({1, 0, 5}, 1), 5.0f, {-1, 0, 0}},
   };
   for (const SingleSphereCase& c : cases) {
