@@ -95,16 +95,19 @@ HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
 }
 
 // With a BVH: the packet walks the tree together, visiting a node while
-// any active lane reaches its box, near child first by the first lane's
-// direction; each lane ends with the same nearest sphere as brute force.
+// any active lane reaches its box, near child first by the summed direction
+// of the active lanes (reflected lanes fan out: the first lane alone often
+// picks the wrong side); each lane ends with the same nearest sphere as
+// brute force.
 template <bool kSphereExit, bool kDiscriminantExit, class D>
 HWY_INLINE void NearestSphereInBvh(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
                                    VecF<D>& bestIndex) {
   const Bvh& bvh = *s.bvh;
   const Vec3x<D> inverse = InverseDirection(d, ray.direction);
   const VecF<D> pad = TraversalPad(d, bvh, ray.origin);
-  const float firstDirection[3] = {hn::GetLane(ray.direction.x), hn::GetLane(ray.direction.y),
-                                   hn::GetLane(ray.direction.z)};
+  const auto activeSum = [&](VecF<D> c) { return hn::GetLane(hn::SumOfLanes(d, hn::IfThenElseZero(active, c))); };
+  const float direction[3] = {activeSum(ray.direction.x), activeSum(ray.direction.y),
+                                   activeSum(ray.direction.z)};
   std::uint32_t stack[kBvhMaxDepth + 2];
   int top = 0;
   stack[top++] = 0;
@@ -112,7 +115,7 @@ HWY_INLINE void NearestSphereInBvh(D d, const SphereArrays& s, const RayX<D>& ra
     const BvhNode& node = bvh.nodes[stack[--top]];
     if (hn::AllFalse(d, BoxReachable(d, node, ray, inverse, pad, bestT, active))) continue;
     if (!node.leaf()) {
-      const bool negative = firstDirection[node.axis()] < 0.0f;
+      const bool negative = direction[node.axis()] < 0.0f;
       stack[top++] = node.first + (negative ? 0u : 1u);  // far child
       stack[top++] = node.first + (negative ? 1u : 0u);  // near child, visited next
       continue;
