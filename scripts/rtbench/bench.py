@@ -6,20 +6,28 @@ then a report of that run.
     scripts/bench random100            # the `paper` profile on scenes/random100.json
     scripts/bench --profile quick      # seconds; what the tests run
     scripts/bench --profile scaling random100 --no-report
+    scripts/bench --resume runs/20250101T120000Z-paper   # finish an interrupted run
 
 A scene given by name means scenes/NAME.json; a path works too. The release
 binary (or the profile's preset) is built first unless --binary names one.
 Renderers this binary does not have are reported and skipped; a failing
-configuration is reported and the others still run; Ctrl-C keeps every
-finished run and writes the manifest.
+configuration is reported and the others still run.
 
-Exit status: 0 all runs finished (skipped renderers aside), 1 a run failed
-or nothing ran, 2 bad arguments or profile, 130 interrupted.
+Ctrl-C (SIGINT) or SIGTERM kills the running configuration's process group,
+keeps every finished run and writes the manifest, marked interrupted with
+the runs still missing; `--resume RUN_DIR` runs those (with the same binary
+and scenes, which it checks) and then reports. A run directory is locked
+while a runner works in it: two runners never write into one directory.
+
+Exit status: 0 all runs finished (skipped renderers aside), 1 a run failed,
+nothing ran or the run directory is in use, 2 bad arguments, profile or run
+directory to resume, 130 interrupted by SIGINT, 143 by SIGTERM.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import signal
 import subprocess
@@ -31,6 +39,7 @@ from rtbench import names, noise, profiles, runner
 from rtbench.profiles import ProfileError
 
 REPORT_SCRIPT = names.REPO_ROOT / "scripts" / "report.py"
+DEFAULT_PROFILE = "paper"
 
 
 def default_runs_dir() -> Path:
@@ -46,7 +55,10 @@ def binary_from_environment(preset: str) -> Path | None:
 def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespace:
     p = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or files (default: the profile's scenes)")
-    p.add_argument("-p", "--profile", default="paper", help="profile name (profiles/NAME.toml) or file; default paper")
+    p.add_argument("-p", "--profile", help="profile name (profiles/NAME.toml) or file; default paper")
+    p.add_argument("--resume", type=Path, metavar="RUN_DIR",
+                   help="run what an interrupted run left (its own plan; the binary and scenes must be unchanged), "
+                        "then report")
     p.add_argument("--binary", type=Path,
                    help="use this raytracer binary, build nothing (default: $RT_BINARY, or $RT_BINARY_PAPER_O0 "
                         "for a paper-o0 profile, when set, as under Nix)")
@@ -69,13 +81,22 @@ def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespac
             p.error(f"--{key} must be at least 1")
     if args.warmup is not None and args.warmup < 0:
         p.error("--warmup must not be negative")
+    if args.resume:
+        planning = {"SCENE": args.scenes, "--renderer": args.renderers, "--preset": args.preset,
+                    "--dry-run": args.dry_run, **{f"--{k}": getattr(args, k) for k in PLAN_OVERRIDES}}
+        given = [name for name, value in planning.items() if value]
+        if given:
+            p.error(f"--resume continues the run's own plan; it cannot be changed with {', '.join(given)}")
     return args
+
+
+PLAN_OVERRIDES = ("width", "height", "warmup", "frames", "repetitions")
 
 
 def plan(args: argparse.Namespace) -> tuple[profiles.Profile, list[profiles.Config], list[tuple[int, profiles.Config]]]:
     """The profile, its configurations and the run order, with the command
     line's scenes, renderer filter and overrides applied."""
-    profile = profiles.load_profile(args.profile)
+    profile = profiles.load_profile(args.profile or DEFAULT_PROFILE)
     scenes = [profiles.resolve_scene(s) for s in (args.scenes or profile.scenes)]
     forced = {k: getattr(args, k) for k in ("width", "height", "warmup", "frames") if getattr(args, k) is not None}
     configs = profiles.expand(profile, scenes, os.cpu_count() or 1, args.renderers, forced)
@@ -140,7 +161,7 @@ def mark_unavailable(manifest: runner.Manifest, binary: Path, cwd: Path, out) ->
     marked unavailable with its reason instead of failing one by one."""
     first_scene = {}
     for c in manifest.configs:
-        first_scene.setdefault(c.renderer, c.scene_path)
+        first_scene.setdefault(c["renderer"], c["scene_path"])
     for renderer, scene in first_scene.items():
         reason = runner.probe_renderer(binary, renderer, scene, cwd)
         if reason is None:
@@ -178,6 +199,8 @@ def main(argv: list[str] | None = None, prog: str = "bench") -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parse_args(argv, prog)
     args.command_line = [prog, *argv]
+    if args.resume:
+        return resume_run(args)
     try:
         profile, configs, order = plan(args)
     except ProfileError as e:
@@ -187,7 +210,11 @@ def main(argv: list[str] | None = None, prog: str = "bench") -> int:
         for i, (rep, c) in enumerate(order, 1):
             print(f"{i:4} r{rep} {c.id}: {' '.join(c.argv(Path('raytracer'), Path('X.csv'), Path('X.meta.json'))[1:-5])}")
         return 0
-    binary = resolve_binary(args, profile)
+    try:
+        binary = resolve_binary(args, profile)
+    except KeyboardInterrupt:
+        print("bench: interrupted while building; no run directory was made", file=sys.stderr)
+        return 130
     if binary is None:
         return 1
     return run_profile(args, profile, configs, order, binary)
@@ -212,28 +239,78 @@ def resolve_binary(args: argparse.Namespace, profile: profiles.Profile) -> Path 
 def run_profile(args, profile, configs, order, binary: Path) -> int:
     """Runs the schedule into a new run directory and reports on it."""
     run_dir = runner.make_run_dir(args.runs_dir, profile.name)
-    configs, order = _place_scenes(configs, order, run_dir)
-    manifest = runner.Manifest(profile, configs, runner.plan_runs(order, binary, run_dir), str(binary),
-                               args.command_line, runner.host_info(),
-                               machine_warnings(), started_at=runner.utc_now())
-    for w in manifest.warnings:
-        print(f"bench: warning: {w}", file=sys.stderr)
-    print(f"bench: profile {profile.name}: {len(configs)} configurations x {len(order) // len(configs)} "
-          f"repetitions = {len(order)} runs -> {run_dir}", flush=True)
-    runner.write_manifest(run_dir, manifest)
-    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
-    try:
-        try:
-            mark_unavailable(manifest, binary, names.REPO_ROOT, sys.stderr)
-        except KeyboardInterrupt:
-            manifest.status, manifest.finished_at = runner.INTERRUPTED, runner.utc_now()
-            runner.write_manifest(run_dir, manifest)
-            completed = False
-        else:
-            completed = _execute(args, manifest, run_dir, profile.timeout_s)
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    with runner.run_dir_lock(run_dir):
+        configs, order = _place_scenes(configs, order, run_dir)
+        manifest = runner.Manifest.start(profile, configs, runner.plan_runs(order, binary, run_dir), binary,
+                                         args.command_line, runner.host_info(), machine_warnings())
+        for w in manifest.warnings:
+            print(f"bench: warning: {w}", file=sys.stderr)
+        print(f"bench: profile {profile.name}: {len(configs)} configurations x {len(order) // len(configs)} "
+              f"repetitions = {len(order)} runs -> {run_dir}", flush=True)
+        runner.write_manifest(run_dir, manifest)
+        completed = run_manifest(args, manifest, run_dir, binary_to_probe=binary)
     return finish(args, manifest, run_dir, completed)
+
+
+def resume_run(args: argparse.Namespace) -> int:
+    """--resume RUN_DIR: runs the pending and interrupted runs of an
+    unfinished run with the same binary and scenes, then reports."""
+    run_dir = args.resume
+    if not run_dir.is_dir():
+        print(f"bench: --resume {run_dir}: not a directory", file=sys.stderr)
+        return 2
+    try:
+        with runner.run_dir_lock(run_dir):
+            manifest = runner.resume_manifest(run_dir, args.binary)
+            _check_profile(args, manifest)
+            missing = manifest.missing()
+            kept = manifest.counts().get(runner.OK, 0)
+            print(f"bench: resuming {run_dir} (profile {manifest.profile.get('name')}): "
+                  f"{sum(map(len, missing.values()))} runs of {len(missing)} configurations to go, "
+                  f"{kept} finished runs kept", flush=True)
+            if manifest.host.get("logical_cores") != os.cpu_count():
+                print(f"bench: warning: this machine has {os.cpu_count()} logical cores, the run started on one "
+                      f"with {manifest.host.get('logical_cores')}", file=sys.stderr)
+            manifest.resumed.append({"at": runner.utc_now(), "command_line": args.command_line})
+            runner.write_manifest(run_dir, manifest)
+            completed = run_manifest(args, manifest, run_dir)
+    except runner.ResumeError as e:
+        print(f"bench: cannot resume: {e}", file=sys.stderr)
+        return 2
+    except runner.RunDirBusy as e:
+        print(f"bench: {e}", file=sys.stderr)
+        return 1
+    return finish(args, manifest, run_dir, completed)
+
+
+def _check_profile(args: argparse.Namespace, manifest: runner.Manifest) -> None:
+    """A --profile given with --resume must be the run's own, unchanged."""
+    if not args.profile:
+        return
+    try:
+        given = profiles.load_profile(args.profile)
+    except ProfileError as e:
+        raise runner.ResumeError(str(e)) from None
+    recorded = manifest.profile.get("definition")
+    if given.name != manifest.profile.get("name") or json.loads(json.dumps(given.raw, default=str)) != recorded:
+        raise runner.ResumeError(f"{args.resume} ran profile {manifest.profile.get('name')!r} "
+                                 f"({manifest.profile.get('path')}); {given.path} is not that profile as it was")
+
+
+def run_manifest(args, manifest: runner.Manifest, run_dir: Path, binary_to_probe: Path | None = None) -> bool:
+    """Runs the manifest's pending runs (first probing each renderer when a
+    new run starts); False when SIGINT or SIGTERM stopped it, the manifest
+    then marked interrupted by that signal."""
+    try:
+        with runner.interruptible():
+            if binary_to_probe is not None:
+                mark_unavailable(manifest, binary_to_probe, names.REPO_ROOT, sys.stderr)
+            return _execute(args, manifest, run_dir, float(manifest.profile["timeout_s"]))
+    except KeyboardInterrupt as e:
+        if manifest.status == runner.COMPLETE:  # the signal came after the last run
+            return True
+        runner.mark_interrupted(run_dir, manifest, e)
+        return False
 
 
 def _place_scenes(configs, order, run_dir: Path):
@@ -242,10 +319,6 @@ def _place_scenes(configs, order, run_dir: Path):
     placed = runner.write_generated_scenes(configs, run_dir, sys.stdout)
     by_id = {c.id: c for c in placed}
     return placed, [(rep, by_id[c.id]) for rep, c in order]
-
-
-def _raise_interrupt(signum, frame):
-    raise KeyboardInterrupt
 
 
 def _execute(args, manifest: runner.Manifest, run_dir: Path, timeout: float) -> bool:
@@ -268,8 +341,13 @@ def finish(args, manifest: runner.Manifest, run_dir: Path, completed: bool) -> i
             print(f"bench: warning: {w}", file=sys.stderr)
     print(f"bench: {', '.join(f'{n} {k}' for k, n in sorted(counts.items()))} -> {run_dir}")
     if not completed:
-        print(f"bench: interrupted; finished runs kept. Report them with: scripts/report.py {run_dir}", file=sys.stderr)
-        return 130
+        missing = manifest.missing()
+        print(f"bench: interrupted by {manifest.interrupted_by}: the running configuration was stopped, "
+              f"{counts.get(runner.OK, 0)} finished runs kept, {sum(map(len, missing.values()))} runs of "
+              f"{len(missing)} configurations missing.\n"
+              f"bench: finish them with: scripts/bench --resume {run_dir}\n"
+              f"bench: report what finished with: scripts/report.py {run_dir}", file=sys.stderr)
+        return 128 + signal.Signals[manifest.interrupted_by].value
     if counts.get(runner.OK) and not args.no_report:
         if run_report(run_dir, args.report_dir or run_dir / "report") != 0:
             return 1

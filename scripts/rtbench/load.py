@@ -30,6 +30,8 @@ MANIFEST = "manifest.json"
 FRAMES_DIR = "frames"
 META_SUFFIX = ".meta.json"
 OK = "ok"
+PENDING, INTERRUPTED = "pending", "interrupted"  # runs of an unfinished run that have no data yet
+COMPLETE = "complete"
 
 
 class RunDataError(ValueError):
@@ -198,6 +200,40 @@ def read_manifest(run_dir: Path) -> dict | None:
     if not isinstance(manifest.get("runs"), list):
         raise RunDataError(f"{path}: no 'runs' list")
     return manifest
+
+
+def missing_runs(manifest: dict) -> dict[str, list[int]]:
+    """Configuration id -> the repetitions an unfinished run has not run yet
+    (pending, or interrupted while running); empty for a complete run.
+    Failed and unavailable runs ran, and are not missing."""
+    missing: dict[str, list[int]] = {}
+    for r in manifest.get("runs", []):
+        if r.get("status") in (PENDING, INTERRUPTED):
+            missing.setdefault(str(r.get("config")), []).append(int(r.get("repetition", -1)))
+    return missing
+
+
+def unfinished_note(run_dir: Path, manifest: dict | None) -> str | None:
+    """One line on a run directory that did not finish: which configurations
+    have no data at all, which lack repetitions, and how to finish it."""
+    missing = missing_runs(manifest or {})
+    if not missing:
+        return None
+    finished: dict[str, int] = {}
+    for r in manifest.get("runs", []):
+        if r.get("status") == OK:
+            finished[r["config"]] = finished.get(r["config"], 0) + 1
+    empty = [c for c in missing if not finished.get(c)]
+    partial = [f"{c} ({finished[c]} of {finished[c] + len(missing[c])} repetitions)" for c in missing if finished.get(c)]
+    status = manifest.get("status", "?")
+    if manifest.get("interrupted_by"):
+        status += f" by {manifest['interrupted_by']}"
+    parts = [f"run {run_dir.name} is unfinished ({status}): {sum(map(len, missing.values()))} runs missing"]
+    if empty:
+        parts.append(f"{len(empty)} configuration(s) have no data: {', '.join(empty)}")
+    if partial:
+        parts.append(f"{len(partial)} lack repetitions: {', '.join(partial)}")
+    return "; ".join(parts) + f". The report covers the finished runs; finish with: scripts/bench --resume {run_dir}"
 
 
 def run_entries(run_dir: Path) -> list[tuple[Path, Path, str, int]]:

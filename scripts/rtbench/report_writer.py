@@ -119,6 +119,7 @@ def _scene_order(summary: pd.DataFrame, thesis_tables: pd.DataFrame) -> list[str
 def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
     """The runner's machine warnings, plus what the data themselves show."""
     warnings = [w for m in inputs.manifests if m for w in m.get("warnings", [])]
+    warnings += [n for d, m in zip(inputs.run_dirs, inputs.manifests) if (n := load.unfinished_note(d, m))]
     spreads = {stats.config_label(r): r["rep_spread"] for _, r in summary.iterrows()}
     warnings += noise.spread_warnings(spreads)
     builds = sorted(set(inputs.frames[names.BUILD_TYPE]))
@@ -273,7 +274,7 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         f"[`{DATA_DIR}/metrics.csv`]({DATA_DIR}/metrics.csv), flagged frames in "
         f"[`{DATA_DIR}/outliers.csv`]({DATA_DIR}/outliers.csv). LaTeX versions of every table are beside the "
         f"Markdown ones in `{TABLES_DIR}/` (they need `\\usepackage{{booktabs}}`).\n",
-        _unfinished_section(inputs.manifests),
+        _unfinished_section(inputs.run_dirs, inputs.manifests),
     ]
     return "\n".join(p for p in parts if p)
 
@@ -323,13 +324,19 @@ def _figure(figures: dict[str, list[Path]], key: str, caption: str, out: Path) -
     return f"![{caption}]({rel})\n\n*{caption}* ([SVG]({svg}))\n"
 
 
-def _unfinished_section(manifests: list[dict | None]) -> str:
-    """Runs that did not produce data: renderers this binary does not have
-    (one line each), failures and interrupted runs (one line per run)."""
-    rows = [r for m in manifests if m for r in m.get("runs", []) if r.get("status") != load.OK]
-    if not rows:
+def _unfinished_section(run_dirs: list[Path], manifests: list[dict | None]) -> str:
+    """Runs that did not produce data: configurations an unfinished run has
+    not run yet (one line each), renderers this binary does not have (one
+    line each), failures (one line per run)."""
+    not_run = (load.PENDING, load.INTERRUPTED)
+    rows = [r for m in manifests if m for r in m.get("runs", []) if r.get("status") not in (load.OK, *not_run)]
+    missing = [(d, c, reps) for d, m in zip(run_dirs, manifests) if m for c, reps in load.missing_runs(m).items()]
+    if not rows and not missing:
         return ""
     lines = ["## Runs without data\n", "| run | status | exit | reason |", "|:--|:--|--:|:--|"]
+    for run_dir, config, reps in missing:
+        lines.append(f"| {config} {' '.join(f'r{r}' for r in reps)} | missing (the run was stopped) | | "
+                     f"`scripts/bench --resume {run_dir}` runs it |")
     unavailable: dict[str, list[dict]] = {}
     for r in rows:
         if r.get("status") == "unavailable":

@@ -5,16 +5,22 @@ The manifest (RUN_DIR/manifest.json) is rewritten atomically after every
 run, so whatever stops the runner (a failure, Ctrl-C, a killed terminal)
 leaves a directory that describes itself: every finished run's CSV and
 metadata, and for the others their status, exit code and the tail of their
-stderr.
+stderr. A run directory is locked while a runner works in it (RUN_DIR/bench.lock,
+an flock that dies with its process), so two runners never write into one
+directory; an interrupted run is resumed from its manifest (resume_manifest).
 """
 
 from __future__ import annotations
 
+import fcntl
+import hashlib
 import json
 import os
 import platform
+import signal
 import subprocess
 import time
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
@@ -22,9 +28,33 @@ from pathlib import Path
 from rtbench import atomic, load, names, noise, profiles, scenes
 from rtbench.profiles import Config, Profile
 
-PENDING, OK, FAILED, UNAVAILABLE, INTERRUPTED = "pending", load.OK, "failed", "unavailable", "interrupted"
+PENDING, OK, FAILED, UNAVAILABLE, INTERRUPTED = load.PENDING, load.OK, "failed", "unavailable", load.INTERRUPTED
+RUNNING, COMPLETE = "running", load.COMPLETE
 STDERR_TAIL_CHARS = 2000
 MANIFEST_FORMAT = 1
+LOCK_FILE = "bench.lock"
+
+
+class RunDirBusy(RuntimeError):
+    """Another runner holds the run directory's lock."""
+
+
+class ResumeError(ValueError):
+    """A run directory that cannot be resumed as asked; the message says why."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C (SIGINT) or SIGTERM: stop after killing the running
+    configuration. A KeyboardInterrupt, so every `except KeyboardInterrupt`
+    cleans up the same way for both signals."""
+
+    def __init__(self, signum: int = signal.SIGINT):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+    @property
+    def exit_status(self) -> int:
+        return 128 + self.signum
 
 
 class BuildError(RuntimeError):
@@ -50,18 +80,43 @@ class RunRecord:
 
 @dataclass
 class Manifest:
-    """Everything the run directory says about itself."""
+    """Everything the run directory says about itself. The profile and the
+    configurations are kept as the plain data the manifest file holds, so a
+    manifest read back from disk (resume_manifest) is the same object."""
 
-    profile: Profile
-    configs: list[Config]
+    profile: dict
+    configs: list[dict]
     runs: list[RunRecord]
     binary: str
     command_line: list[str]
     host: dict
     warnings: list[str] = field(default_factory=list)
-    status: str = "running"
+    status: str = RUNNING
     started_at: str = ""
     finished_at: str | None = None
+    identity: dict = field(default_factory=dict)  # sha256 of the binary and of every scene file
+    interrupted_by: str | None = None
+    resumed: list[dict] = field(default_factory=list)
+
+    @classmethod
+    def start(cls, profile: Profile, configs: list[Config], runs: list[RunRecord], binary: Path,
+              command_line: list[str], host: dict, warnings: list[str]) -> "Manifest":
+        """The manifest of a new run (status running), with the identity of
+        what it runs, which a resume checks."""
+        section = {"name": profile.name, "path": str(profile.path), "description": profile.description,
+                   "preset": profile.preset, "repetitions": len({r.repetition for r in runs}),
+                   "interleave": profile.interleave, "timeout_s": profile.timeout_s, "definition": profile.raw}
+        described = [c.describe() for c in configs]
+        identity = run_identity(binary, [c["scene_path"] for c in described])
+        return cls(section, described, runs, str(binary), command_line, host, warnings, started_at=utc_now(),
+                   identity=identity)
+
+    @classmethod
+    def from_json(cls, data: dict) -> "Manifest":
+        runs = [RunRecord(**r) for r in data["runs"]]
+        return cls(data["profile"], data["configs"], runs, data["binary"], data["command_line"], data["host"],
+                   data.get("warnings", []), data["status"], data.get("started_at", ""), data.get("finished_at"),
+                   data.get("identity", {}), data.get("interrupted_by"), data.get("resumed", []))
 
     def to_json(self) -> dict:
         return {
@@ -69,15 +124,17 @@ class Manifest:
             "status": self.status,
             "started_at": self.started_at,
             "finished_at": self.finished_at,
-            "profile": {"name": self.profile.name, "path": str(self.profile.path), "description": self.profile.description,
-                        "preset": self.profile.preset, "repetitions": len({r.repetition for r in self.runs}),
-                        "interleave": self.profile.interleave, "definition": self.profile.raw},
+            "interrupted_by": self.interrupted_by,
+            "resumed": self.resumed,
+            "profile": self.profile,
             "binary": self.binary,
+            "identity": self.identity,
             "command_line": self.command_line,
             "host": self.host,
             "warnings": self.warnings,
             "counts": self.counts(),
-            "configs": [c.describe() for c in self.configs],
+            "missing": self.missing(),
+            "configs": self.configs,
             "runs": [asdict(r) for r in self.runs],
         }
 
@@ -87,6 +144,10 @@ class Manifest:
             counts[r.status] = counts.get(r.status, 0) + 1
         return counts
 
+    def missing(self) -> dict[str, list[int]]:
+        """Configuration id -> the repetitions still to run: what `--resume` would run."""
+        return load.missing_runs({"runs": [asdict(r) for r in self.runs]})
+
 
 def utc_now() -> str:
     return datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
@@ -94,6 +155,45 @@ def utc_now() -> str:
 
 def write_manifest(run_dir: Path, manifest: Manifest) -> Path:
     return atomic.write_json(run_dir / load.MANIFEST, manifest.to_json())
+
+
+def file_sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def run_identity(binary: Path, scene_paths: list[str]) -> dict:
+    """What the numbers of a run depend on besides the command lines: the
+    binary's and the scenes' contents. A resume that would mix builds or
+    edited scenes into one run is refused on these."""
+    return {"binary_sha256": file_sha256(binary),
+            "scene_sha256": {p: file_sha256(Path(p)) for p in sorted(set(scene_paths))}}
+
+
+# --- the run directory's lock ---------------------------------------------------
+
+@contextmanager
+def run_dir_lock(run_dir: Path):
+    """Holds RUN_DIR/bench.lock (an exclusive flock) for the block. The kernel
+    drops it when the process dies however it dies, so a stale lock cannot
+    outlive a killed runner; a second runner gets RunDirBusy at once."""
+    path = run_dir / LOCK_FILE
+    fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(fd, 64, 0).decode(errors="replace").strip() or "?"
+            raise RunDirBusy(f"{run_dir}: in use by another bench process (pid {holder}); "
+                             "wait for it to finish or stop it first") from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        yield
+    finally:
+        os.close(fd)
 
 
 # --- building -------------------------------------------------------------------
@@ -127,7 +227,9 @@ def build(preset: str, repo_root: Path, jobs: int) -> Path:
 # --- running ----------------------------------------------------------------------
 
 def make_run_dir(runs_dir: Path, profile_name: str, now: datetime | None = None) -> Path:
-    """runs/<UTC timestamp>-<profile>/, never reusing an existing directory."""
+    """runs/<UTC timestamp>-<profile>/, never reusing an existing directory:
+    mkdir either creates the directory or fails, so two runners started in
+    the same second get -2, -3, ... instead of sharing one."""
     stamp = (now or datetime.now(timezone.utc)).strftime("%Y%m%dT%H%M%SZ")
     runs_dir.mkdir(parents=True, exist_ok=True)
     for suffix in ["", *(f"-{i}" for i in range(2, 1000))]:
@@ -172,28 +274,57 @@ def probe_renderer(binary: Path, renderer: str, scene_path: str, cwd: Path, time
     argv = [str(binary), names.RENDERER_FLAGS[renderer], scene_path, "--width", "4", "--height", "4",
             "--warmup", "0", "--frames", "1", "--quiet"]
     try:
-        done = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, timeout=timeout)
+        code, out, err = run_process(argv, cwd, timeout)
     except subprocess.TimeoutExpired:
         return f"a 4x4 test frame did not finish in {timeout:.0f} s"
-    if done.returncode == 0:
+    if code == 0:
         return None
-    return f"exit {done.returncode}: {_tail(done.stderr or done.stdout)}"
+    return f"exit {code}: {_tail(err or out)}"
 
 
 def _tail(text: str) -> str:
     return text.strip()[-STDERR_TAIL_CHARS:]
 
 
+def run_process(argv: list[str], cwd: Path, timeout: float) -> tuple[int, str, str]:
+    """Runs a process in a process group of its own and returns (exit code,
+    stdout, stderr). Whatever ends the wait (the timeout, Ctrl-C, SIGTERM)
+    kills the whole group with SIGKILL and reaps it before propagating, so
+    nothing it started keeps running. Its own group also keeps a terminal's
+    Ctrl-C from reaching it before the runner has decided what to do."""
+    proc = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired as e:
+        _kill_group(proc)
+        _, err = proc.communicate()
+        e.stderr = err
+        raise
+    except BaseException:
+        _kill_group(proc)
+        proc.communicate()
+        raise
+    return proc.returncode, out, err
+
+
+def _kill_group(proc: subprocess.Popen) -> None:
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except ProcessLookupError:  # the group is gone already
+        pass
+
+
 def run_one(record: RunRecord, run_dir: Path, cwd: Path, timeout: float) -> RunRecord:
     """Runs one configuration's process and records how it ended. A
-    KeyboardInterrupt propagates (subprocess kills the child first)."""
+    KeyboardInterrupt propagates after the process group is killed."""
     started = time.monotonic()
     try:
-        done = subprocess.run(record.argv, cwd=cwd, capture_output=True, text=True, timeout=timeout)
-        record.exit_code, record.stderr_tail = done.returncode, _tail(done.stderr)
+        code, _, err = run_process(record.argv, cwd, timeout)
+        record.exit_code, record.stderr_tail = code, _tail(err)
         complete = (run_dir / record.csv).is_file() and (run_dir / record.meta).is_file()
-        record.status = OK if done.returncode == 0 and complete else FAILED
-        if done.returncode == 0 and not complete:
+        record.status = OK if code == 0 and complete else FAILED
+        if code == 0 and not complete:
             record.stderr_tail = (record.stderr_tail + "\nexit 0 but the CSV or metadata is missing").strip()
     except subprocess.TimeoutExpired as e:
         record.status, record.stderr_tail = FAILED, f"timed out after {timeout:.0f} s\n" + _tail(_text(e.stderr))
@@ -238,8 +369,8 @@ def execute(manifest: Manifest, run_dir: Path, cwd: Path, timeout: float, observ
     """Runs every pending record in order, rewriting the manifest after each;
     the observer counts the runs this call executes (unavailable ones are not
     among them). Returns False if interrupted (Ctrl-C or SIGTERM): the record
-    in flight is marked interrupted, the ones after it stay pending, the
-    manifest is written."""
+    in flight is marked interrupted (its process group killed), the ones
+    after it stay pending, the manifest is written with what is missing."""
     todo = [r for r in manifest.runs if r.status == PENDING]
     current = None
     try:
@@ -250,15 +381,93 @@ def execute(manifest: Manifest, run_dir: Path, cwd: Path, timeout: float, observ
             observer.finished(record, done + 1, len(todo))
             current = None
             write_manifest(run_dir, manifest)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as e:
         if current is not None:
-            current.status = INTERRUPTED
-            remove_temporaries(run_dir, current)
-        manifest.status = INTERRUPTED
-        manifest.finished_at = utc_now()
-        write_manifest(run_dir, manifest)
+            current.status, current.exit_code, current.stderr_tail = INTERRUPTED, None, ""
+            discard_outputs(run_dir, current)
+        mark_interrupted(run_dir, manifest, e)
         return False
-    manifest.status = "complete"
+    manifest.status = COMPLETE
     manifest.finished_at = utc_now()
     write_manifest(run_dir, manifest)
     return True
+
+
+def mark_interrupted(run_dir: Path, manifest: Manifest, interrupt: KeyboardInterrupt) -> None:
+    manifest.status, manifest.finished_at = INTERRUPTED, utc_now()
+    manifest.interrupted_by = signal.Signals(getattr(interrupt, "signum", signal.SIGINT)).name
+    write_manifest(run_dir, manifest)
+
+
+def discard_outputs(run_dir: Path, record: RunRecord) -> None:
+    """A run that did not finish keeps no output: the raytracer renames its
+    CSV before its metadata, so a kill between the two could leave a CSV
+    without its sidecar."""
+    remove_temporaries(run_dir, record)
+    for rel in (record.csv, record.meta):
+        (run_dir / rel).unlink(missing_ok=True)
+
+
+@contextmanager
+def interruptible():
+    """SIGINT (Ctrl-C) and SIGTERM raise Interrupted inside the block, the
+    first one only: a second signal while the runner kills the running
+    configuration and writes the manifest is ignored, so that cleanup
+    finishes."""
+    raised = False
+
+    def handler(signum, frame):
+        nonlocal raised
+        if not raised:
+            raised = True
+            raise Interrupted(signum)
+
+    previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+
+
+# --- resuming ----------------------------------------------------------------------
+
+def resume_manifest(run_dir: Path, binary: Path | None) -> Manifest:
+    """The manifest of an unfinished run, ready to run what is missing: its
+    interrupted run back to pending, the binary (the recorded one, or
+    `binary` if given) checked to be the same build and every scene
+    unchanged. ResumeError says why a run cannot be resumed."""
+    data = load.read_manifest(run_dir) if run_dir.is_dir() else None
+    if data is None:
+        raise ResumeError(f"{run_dir}: no {load.MANIFEST}; not a run directory written by scripts/bench")
+    try:
+        manifest = Manifest.from_json(data)
+    except (KeyError, TypeError) as e:
+        raise ResumeError(f"{run_dir / load.MANIFEST}: not a manifest this runner can resume ({e})") from None
+    if not manifest.missing():
+        raise ResumeError(f"{run_dir}: nothing to resume, every run has finished (status {manifest.status})")
+    target = Path(binary or manifest.binary).resolve()
+    _check_identity(run_dir, manifest, target)
+    for r in manifest.runs:
+        if r.status in (PENDING, INTERRUPTED):
+            discard_outputs(run_dir, r)
+            r.status, r.exit_code, r.seconds, r.stderr_tail = PENDING, None, None, ""
+            r.argv = [str(target), *r.argv[1:]]
+    manifest.binary = str(target)
+    manifest.status, manifest.finished_at, manifest.interrupted_by = RUNNING, None, None
+    return manifest
+
+
+def _check_identity(run_dir: Path, manifest: Manifest, binary: Path) -> None:
+    recorded = manifest.identity.get("binary_sha256")
+    if not recorded:
+        raise ResumeError(f"{run_dir / load.MANIFEST}: records no binary identity (written by an older runner)")
+    if not binary.is_file():
+        raise ResumeError(f"{run_dir}: the run's binary {binary} is gone; rebuild it or pass --binary")
+    if file_sha256(binary) != recorded:
+        raise ResumeError(f"{run_dir}: {binary} is not the build this run started with (sha256 differs); "
+                          "resuming would mix two builds in one run. Start a new run instead")
+    for path, digest in manifest.identity.get("scene_sha256", {}).items():
+        if not Path(path).is_file() or file_sha256(Path(path)) != digest:
+            raise ResumeError(f"{run_dir}: scene {path} is missing or changed since the run started; "
+                              "start a new run instead")
