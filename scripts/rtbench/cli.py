@@ -3,11 +3,12 @@ PYTHONPATH), which the commands of scripts/ wrap:
 
     python3 -m rtbench bench [ARGS]        scripts/bench        run a benchmark profile, then report on it
     python3 -m rtbench report RUN_DIR...   scripts/report.py    the report of finished runs
+    python3 -m rtbench compare BASE NEW    scripts/compare.py   new vs base, configuration by configuration
     python3 -m rtbench gen-scene NAME...   scripts/gen_scene.py the committed scenes, or a random one
 
 `python3 -m rtbench COMMAND --help` lists a command's options. A command's
 module is imported only when it runs: gen-scene needs the standard library
-alone, bench and report need pandas, matplotlib and rich.
+alone, bench and report need pandas, matplotlib and rich, compare also scipy.
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ class Command:
 COMMANDS = {
     "bench": Command("rtbench.bench", "bench", "run a benchmark profile, then report on it (scripts/bench)"),
     "report": Command("rtbench.report_writer", "report.py", "the report of finished runs (scripts/report.py)"),
+    "compare": Command("rtbench.compare", "compare.py", "compare two sets of runs: faster, slower or ~ per "
+                                                        "configuration (scripts/compare.py)"),
     "gen-scene": Command("rtbench.scenes", "gen_scene.py", "write the committed scenes, or a random one "
                                                            "(scripts/gen_scene.py)"),
 }

@@ -46,6 +46,9 @@ FRAME = _column("frame")
 WARMUP = _column("warmup")
 RENDER_MS = _column("render_ms")
 GPU_MS = _column("gpu_ms")
+# The host wall time of each phase of the frame loop (the schema's phases:
+# Update, Render, Present), whose sum is the time of the whole frame.
+PHASE_MS = [_column(f"{phase.lower()}_ms") for phase in schema.schema()["phases"]]
 
 # Metadata sidecar keys read by the loader.
 META_CONFIG = _meta_key("config")

@@ -260,3 +260,37 @@ def cost_vs_spheres(curves: pd.DataFrame, fits: pd.DataFrame, stem: Path) -> lis
 def _varying(df: pd.DataFrame, keys: list[str]) -> list[str]:
     """The keys whose value differs between rows: what a label must show."""
     return [key for key in keys if df[key].nunique(dropna=False) > 1]
+
+
+def karp_flatt_vs_p(metrics_table: pd.DataFrame, stem: Path) -> list[Path]:
+    """Karp-Flatt e against p = threads x lanes for the CPU renderers that ran
+    at several p on the same work (scene, stage, accel, size): one line per
+    renderer and lane width over its thread counts (a renderer without
+    threads: one line over its lane widths). Flat e: the loss is serial work;
+    rising e: parallel overhead grows with p. [] without such data."""
+    if metrics_table.empty:
+        return []
+    on_cpu = metrics_table[names.RENDERER].map(names.renders_on_cpu).astype(bool)
+    cpu = metrics_table[on_cpu & np.isfinite(metrics_table["karp_flatt"].astype(float))]
+    work = [names.SCENE, names.STAGE, names.ACCEL, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    families = [g for _, g in cpu.groupby([names.RENDERER, *work], sort=False) if g["p"].nunique() > 1]
+    if not families:
+        return []
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    label_keys = _varying(pd.concat(families), [names.SCENE, names.STAGE, names.ACCEL, names.WIDTH, names.BUILD_TYPE])
+    for family in families:
+        renderer = family[names.RENDERER].iloc[0]
+        by_lanes = names.accepts(renderer, names.THREADS)
+        for lanes, line in (family.groupby(names.LANES, sort=True) if by_lanes else [(None, family)]):
+            line = line.sort_values("p")
+            text = " ".join([renderer, *([f"l{lanes}"] if lanes and lanes > 1 else []),
+                             *(str(line[key].iloc[0]) for key in label_keys)])
+            ax.plot(line["p"], line["karp_flatt"], marker="o", label=text)
+    ax.set_xscale("log", base=2)
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.set_xlabel("p = threads x lanes (log scale)")
+    ax.set_ylabel("Karp-Flatt e (experimentally determined serial fraction)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    ax.set_title("Karp-Flatt metric against p")
+    return save(fig, stem)

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from rtbench import atomic, load, metrics, names, noise, plots, stats, tables, thesis
+from rtbench import archive, atomic, budget, load, metrics, names, noise, plots, stats, tables, thesis
 
 TABLES_DIR = "tables"
 PLOTS_DIR = "plots"
@@ -49,6 +49,7 @@ class ReportInputs:
     thesis_reported: pd.DataFrame
     gpu_estimates: list[metrics.GpuEstimate]
     gpu_override: float | None = None
+    budgets_ms: tuple[float, ...] = budget.DEFAULT_BUDGETS_MS
 
 
 @dataclass
@@ -61,16 +62,18 @@ class ReportResults:
     thesis_metrics: pd.DataFrame
     tables: list[tables.Table]
     warnings: list[str]
+    budgets: pd.DataFrame = field(default_factory=pd.DataFrame)  # frame-budget statistics (budget.summarize_budgets)
     written: list[Path] = field(default_factory=list)
 
 
-def gather(run_dirs: list[Path], gpu_override: float | None = None) -> ReportInputs:
+def gather(run_dirs: list[Path], gpu_override: float | None = None,
+           budgets_ms: tuple[float, ...] = budget.DEFAULT_BUDGETS_MS) -> ReportInputs:
     """Loads the runs (strictly: errors name the file) and the thesis' data."""
     run_dirs = [Path(d) for d in run_dirs]
     frames = load.load_runs(run_dirs)
     manifests = [load.read_manifest(d) for d in run_dirs]
     return ReportInputs(run_dirs, frames, manifests, thesis.load_tables(), thesis.load_reported(),
-                        metrics.load_gpu_estimates(), gpu_override)
+                        metrics.load_gpu_estimates(), gpu_override, tuple(budgets_ms))
 
 
 def compute(inputs: ReportInputs) -> ReportResults:
@@ -83,7 +86,10 @@ def compute(inputs: ReportInputs) -> ReportResults:
     fits = metrics.cost_fits(curves)
     thesis_metrics = thesis.reported_vs_recomputed(inputs.thesis_tables, inputs.thesis_reported)
     built = build_tables(summary, met, thesis_metrics, inputs.thesis_tables, fits)
-    return ReportResults(summary, met, scaling, curves, fits, thesis_metrics, built, collect_warnings(inputs, summary))
+    budgets = budget.summarize_budgets(inputs.frames, inputs.budgets_ms)
+    built.append(budget.budget_table(budgets, inputs.budgets_ms))
+    return ReportResults(summary, met, scaling, curves, fits, thesis_metrics, built, collect_warnings(inputs, summary),
+                         budgets=budgets)
 
 
 def build_tables(summary, met, thesis_metrics, thesis_tables, fits) -> list[tables.Table]:
@@ -138,20 +144,26 @@ def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     parser = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directory written by scripts/bench")
+    parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR",
+                        help="run directory written by scripts/bench, or a run archive (.tar.xz, data/runs/README.md)")
     parser.add_argument("-o", "--output", type=Path, default=Path("report"), help="report directory (default: report/)")
     parser.add_argument("--gpu-p", type=float, metavar="N",
                         help="processor count of the GPU for Karp-Flatt (default: per-device estimate, "
                              "data/gpu_processors.toml)")
+    parser.add_argument("--budget-ms", type=float, nargs="+", default=list(budget.DEFAULT_BUDGETS_MS), metavar="MS",
+                        help="frame budgets of the frame-budget table (default: 16.67 33.33)")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     args = parser.parse_args(argv)
     if args.gpu_p is not None and args.gpu_p <= 1:
         parser.error("--gpu-p must be greater than 1")
+    if not all(math.isfinite(b) and b > 0 for b in args.budget_ms):
+        parser.error("--budget-ms must be positive numbers of milliseconds")
 
     try:
-        inputs = gather(args.run_dirs, args.gpu_p)
-        results = compute(inputs)
-        written = write(inputs, results, args.output)
+        with archive.unpacked(args.run_dirs) as run_dirs:  # a committed run archive reads as its directory
+            inputs = gather(run_dirs, args.gpu_p, tuple(args.budget_ms))
+            results = compute(inputs)
+            written = write(inputs, results, args.output)
     except (load.RunDataError, thesis.ThesisDataError) as e:
         print(f"{parser.prog}: {e}", file=sys.stderr)
         return 1
@@ -194,6 +206,7 @@ def write_data(inputs: ReportInputs, results: ReportResults, out: Path) -> list[
     }
     if not results.cost_fits.empty:
         files["cost_vs_spheres.csv"] = results.cost_fits
+    files["budget.csv"] = results.budgets
     return [atomic.write_text(out / name, df.to_csv(index=False, float_format="%.17g")) for name, df in files.items()]
 
 
@@ -204,6 +217,7 @@ def draw_figures(inputs: ReportInputs, results: ReportResults, out: Path) -> dic
         "render_ms": plots.render_bars(results.summary, out / "render_ms"),
         "thesis_speedups": plots.thesis_speedups(_speedup_pairs(results, inputs), out / "thesis_speedups"),
         "scaling": plots.speedup_vs_threads(results.scaling, out / "scaling"),
+        "karp_flatt": plots.karp_flatt_vs_p(results.metrics, out / "karp_flatt"),
         "cost_vs_spheres": plots.cost_vs_spheres(results.curves, results.cost_fits, out / "cost_vs_spheres"),
         "frame_series": plots.frame_series(frames, out / "frame_series"),
         "distributions": plots.distributions(frames, out / "distributions"),
@@ -255,10 +269,13 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         "## Speedup and Karp-Flatt\n",
         tables.to_markdown(by_slug["metrics-vs-thesis"]),
         tables.to_markdown(by_slug["metrics"]),
+        _figure(figures, "karp_flatt", "Karp-Flatt e against p = threads x lanes", out),
         "## The thesis' own metrics, recomputed\n",
         thesis_note(results.thesis_metrics),
         tables.to_markdown(by_slug["thesis-metrics-recomputed"]),
         _cost_section(by_slug, figures, out),
+        "## Frame budget\n",
+        tables.to_markdown(by_slug["frame-budget"]),
         "## Figures\n",
         _figure(figures, "render_ms", "Render time per frame", out),
         _figure(figures, "scaling", "Strong scaling", out)

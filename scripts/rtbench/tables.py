@@ -272,6 +272,16 @@ def _config_cells(d: dict, leave_out: tuple[str, ...] = ()) -> list[str]:
     return [cell(d) for _, _, cell in _config_columns(leave_out)]
 
 
+def config_headers(leave_out: tuple[str, ...] = ()) -> tuple[list[str], str]:
+    """The configuration columns' headers and alignment, for tables built elsewhere (budget, compare)."""
+    return _config_headers(leave_out)
+
+
+def config_cells(d: dict, leave_out: tuple[str, ...] = ()) -> list[str]:
+    """A configuration row's cells, for tables built elsewhere (budget, compare)."""
+    return _config_cells(d, leave_out)
+
+
 def _target_or_device(d: dict) -> str:
     """A CPU renderer's SIMD target (empty for scalar ones), else the device it rendered on."""
     return d[names.SIMD_TARGET] if names.renders_on_cpu(d[names.RENDERER]) else d[names.DEVICE]

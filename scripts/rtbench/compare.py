@@ -1,0 +1,410 @@
+"""Compares two sets of benchmark runs: did NEW get faster or slower than
+BASE, configuration by configuration, and what differs between the two
+environments.
+
+    scripts/compare.py BASE NEW                       # one run directory (or run archive) each
+    scripts/compare.py --base A B --new C D           # several runs pooled per side, as in report.py
+    scripts/compare.py BASE NEW -o cmp/ --fail-above 10%
+
+Configurations are matched on the configuration key of the report (scene,
+renderer, stage, accel, threads, lanes, size, build type, ...), less what the
+machine decides rather than the benchmark: the Vulkan device and the SIMD
+target (put them back with --key-with; --all-cores matches each side's
+all-cores thread count with the other's). For each configuration present on
+both sides, from the measured frames of all repetitions pooled:
+
+  base and new median render_ms, the ratio new/base of the medians with a
+  95 % percentile-bootstrap confidence interval (seeded: the same runs give
+  the same output), the two-sided Mann-Whitney U test of the two sets of
+  frame times, and a verdict: `faster` or `slower` where the change is
+  significant (p < alpha, the interval excludes 1, and |ratio - 1| is at
+  least the noise threshold), else `~`;
+
+then the geometric mean of the ratios, the configurations found on one side
+only, the frame-budget statistics of both sides (see rtbench.budget), and
+every environment fact that differs between the two sides' run metadata (CPU,
+cores, OS, compiler and flags, library versions, Vulkan device and driver,
+git commit, Nix or not). It prints a table and, with -o DIR, writes
+compare.md, compare.json and the ratio plot (compare.png, compare.svg).
+
+Exit status: 0, or 1 when --fail-above is given and a configuration is
+significantly slower by more than it (for CI gating), 2 on bad input (the
+message names the file).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy import stats as scipy_stats
+
+from rtbench import archive, budget, load, names, noise, stats
+
+FASTER, SLOWER, SAME = "faster", "slower", "~"
+DEFAULT_ALPHA = 0.05
+# Below this relative change a difference is not called, however significant:
+# the spread between repetitions of one configuration that noise.py warns at.
+DEFAULT_NOISE = noise.SPREAD_LIMIT
+# What the machine decides rather than the benchmark: left out of the match
+# key by default and listed among the environment differences instead.
+ENVIRONMENT_KEYS = (names.DEVICE, names.SIMD_TARGET)
+# With --all-cores, the match key's threads: "all" where a configuration ran
+# on every logical core of its machine, else the thread count.
+MATCH_THREADS = "match_threads"
+ALL_CORES = "all"
+
+
+class CompareError(ValueError):
+    """Input that cannot be compared; the message names the runs or file."""
+
+
+@dataclass(frozen=True)
+class Options:
+    alpha: float = DEFAULT_ALPHA
+    noise: float = DEFAULT_NOISE
+    fail_above: float | None = None
+    budgets_ms: tuple[float, ...] = budget.DEFAULT_BUDGETS_MS
+    all_cores: bool = False
+    key_with: tuple[str, ...] = ()
+
+
+@dataclass
+class Side:
+    """One side of the comparison: its runs pooled."""
+
+    name: str  # "base" or "new"
+    paths: list[Path]  # as given (directories or archives)
+    run_names: list[str]  # the run directories' names
+    frames: pd.DataFrame
+    environment: dict[str, list[str]]  # fact -> its distinct values over every run
+
+
+@dataclass
+class Comparison:
+    base: Side
+    new: Side
+    options: Options
+    rows: pd.DataFrame  # one per configuration on both sides (see compare_sides)
+    only_base: list[str]
+    only_new: list[str]
+    geomean: float
+    differences: list[tuple[str, list[str], list[str]]] = field(default_factory=list)
+
+    def verdict_counts(self) -> dict[str, int]:
+        counts = self.rows["verdict"].value_counts() if len(self.rows) else {}
+        return {v: int(counts.get(v, 0)) for v in (FASTER, SLOWER, SAME)}
+
+    def failures(self) -> list[str]:
+        """Configurations significantly slower by more than --fail-above."""
+        limit = self.options.fail_above
+        if limit is None or self.rows.empty:
+            return []
+        bad = self.rows[(self.rows["verdict"] == SLOWER) & (self.rows["ratio"] > 1.0 + limit)]
+        return list(bad["label"])
+
+
+# --- statistics: pure functions ------------------------------------------------
+
+def _finite(values) -> np.ndarray:
+    x = np.asarray(values, dtype=float)
+    return x[np.isfinite(x)]
+
+
+def ratio_ci(base, new, confidence: float = stats.CONFIDENCE, resamples: int = stats.BOOTSTRAP_RESAMPLES,
+             seed: int = stats.BOOTSTRAP_SEED) -> tuple[float, float]:
+    """Percentile-bootstrap CI of median(new) / median(base), each side
+    resampled on its own; seeded, so the same data give the same interval."""
+    b, n = _finite(base), _finite(new)
+    if b.size == 0 or n.size == 0:
+        return (math.nan, math.nan)
+    rng = np.random.default_rng(seed)
+    base_medians = np.median(b[rng.integers(0, b.size, size=(resamples, b.size))], axis=1)
+    new_medians = np.median(n[rng.integers(0, n.size, size=(resamples, n.size))], axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratios = new_medians / base_medians
+    tail = (1.0 - confidence) / 2.0 * 100.0
+    lo, hi = np.percentile(ratios, [tail, 100.0 - tail])
+    return (float(lo), float(hi))
+
+
+def mann_whitney_p(base, new) -> float:
+    """Two-sided Mann-Whitney U test p-value; 1 where the two sets cannot be
+    told apart at all (every value equal), NaN without data."""
+    b, n = _finite(base), _finite(new)
+    if b.size == 0 or n.size == 0:
+        return math.nan
+    if np.ptp(np.concatenate([b, n])) == 0:
+        return 1.0
+    return float(scipy_stats.mannwhitneyu(b, n, alternative="two-sided").pvalue)
+
+
+def verdict(ratio: float, ci: tuple[float, float], p: float, alpha: float, noise_limit: float) -> str:
+    """faster / slower when the change is significant by every test, else ~."""
+    lo, hi = ci
+    if not (math.isfinite(ratio) and math.isfinite(p) and p < alpha):
+        return SAME
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo <= 1.0 <= hi or abs(ratio - 1.0) < noise_limit:
+        return SAME
+    return FASTER if ratio < 1.0 else SLOWER
+
+
+def geometric_mean(ratios) -> float:
+    x = _finite(ratios)
+    x = x[x > 0]
+    return float(np.exp(np.mean(np.log(x)))) if x.size else math.nan
+
+
+def compare_values(base, new, options: Options) -> dict:
+    """Medians, ratio, its CI, the U test's p and the verdict of one configuration."""
+    mb, mn = stats.median(base), stats.median(new)
+    ratio = mn / mb if mb > 0 and math.isfinite(mn) else math.nan
+    ci = ratio_ci(base, new)
+    p = mann_whitney_p(base, new)
+    return {"base_n": int(_finite(base).size), "new_n": int(_finite(new).size), "base_median": mb,
+            "new_median": mn, "ratio": ratio, "ci_low": ci[0], "ci_high": ci[1], "p_value": p,
+            "verdict": verdict(ratio, ci, p, options.alpha, options.noise)}
+
+
+# --- matching --------------------------------------------------------------------
+
+def match_keys(options: Options) -> list[str]:
+    """The columns two configurations must agree on to be compared."""
+    keys = [k for k in stats.CONFIG_KEYS if k not in ENVIRONMENT_KEYS or k in options.key_with]
+    if options.all_cores:
+        keys = [MATCH_THREADS if k == names.THREADS else k for k in keys]
+    return keys
+
+
+def with_match_columns(frames: pd.DataFrame, options: Options) -> pd.DataFrame:
+    if not options.all_cores:
+        return frames
+    every_core = frames[names.THREADS] == frames[names.LOGICAL_CORES]
+    takes_threads = frames[names.RENDERER].map(lambda r: names.accepts(r, names.THREADS))
+    threads = frames[names.THREADS].astype(str).where(~(every_core & takes_threads), ALL_CORES)
+    return frames.assign(**{MATCH_THREADS: threads})
+
+
+def configurations(side: Side, keys: list[str]) -> dict[tuple, pd.DataFrame]:
+    """Match key -> that configuration's measured frames; a CompareError where
+    one key covers configurations that differ in a column left out of it."""
+    out = {}
+    for key, group in stats.measured(side.frames).groupby(keys, sort=False, dropna=False):
+        full = group[stats.CONFIG_KEYS].drop_duplicates()
+        if len(full) > 1:
+            column = next(c for c in stats.CONFIG_KEYS if full[c].nunique(dropna=False) > 1)
+            values = ", ".join(sorted(map(str, full[column].unique())))
+            raise CompareError(
+                f"{', '.join(map(str, side.paths))}: configuration {stats.config_label(full.iloc[0])} ran with more "
+                f"than one {column} ({values}); compare them separately, or match on it with --key-with {column}")
+        out[key if isinstance(key, tuple) else (key,)] = group
+    return out
+
+
+def label(base_row, new_row, show_size: bool) -> str:
+    """scene/renderer/stage/tN/lN[/accel][/WxH]; an option that differs
+    between the sides (threads under --all-cores) as 'base→new'."""
+    options = ""
+    for option, value in names.label_options(base_row):
+        other = new_row[option]
+        options += f"/{option[0]}{value}" + (f"→{other}" if other != value else "")
+    accel = "".join(f"/{tag}" for tag in names.accel_tag(base_row))
+    size = f"/{base_row[names.WIDTH]}x{base_row[names.HEIGHT]}" if show_size else ""
+    return f"{base_row[names.SCENE]}/{base_row[names.RENDERER]}/{base_row[names.STAGE]}{options}{accel}{size}"
+
+
+def frame_budget(side: str, group: pd.DataFrame, budgets_ms) -> dict:
+    """The frame-budget statistics of one side's frames of a configuration,
+    each under `side`_frame_ (base_frame_p99, ...)."""
+    series = budget.runs_in_order(group.assign(**{budget.FRAME_MS: budget.frame_ms(group)}))
+    return {f"{side}_frame_{k}": v for k, v in budget.budget_stats(series, budgets_ms).items() if k != "n"}
+
+
+def compare_sides(base: Side, new: Side, options: Options) -> Comparison:
+    """Every statistic of the comparison; no I/O."""
+    keys = match_keys(options)
+    base.frames, new.frames = with_match_columns(base.frames, options), with_match_columns(new.frames, options)
+    ours, theirs = configurations(base, keys), configurations(new, keys)
+    both = [k for k in ours if k in theirs]
+    sizes = {(g[names.WIDTH].iloc[0], g[names.HEIGHT].iloc[0]) for g in [*ours.values(), *theirs.values()]}
+    rows = []
+    for key in both:
+        b, n = ours[key], theirs[key]
+        row = {**dict(zip(stats.CONFIG_KEYS, b[stats.CONFIG_KEYS].iloc[0])),
+               "label": label(b.iloc[0], n.iloc[0], len(sizes) > 1),
+               **compare_values(b[names.RENDER_MS], n[names.RENDER_MS], options)}
+        for side, group in (("base", b), ("new", n)):
+            row.update(frame_budget(side, group, options.budgets_ms))
+        rows.append(row)
+    table = stats.sort_configs(pd.DataFrame(rows)) if rows else pd.DataFrame(columns=["label", "verdict", "ratio"])
+    only = [[label(g.iloc[0], g.iloc[0], len(sizes) > 1) for k, g in side.items() if k not in other]
+            for side, other in ((ours, theirs), (theirs, ours))]
+    return Comparison(base, new, options, table, sorted(only[0]), sorted(only[1]),
+                      geometric_mean(table["ratio"]) if len(table) else math.nan,
+                      environment_differences(base.environment, new.environment))
+
+
+# --- environment -------------------------------------------------------------------
+
+def _device_driver(device: dict) -> str | None:
+    text = " ".join(str(device.get(k) or "") for k in ("driver_name", "driver_version")).strip()
+    info = device.get("driver_info")
+    return f"{text} ({info})" if info and info not in text else text or None
+
+
+def _git(build: dict) -> str | None:
+    commit = build.get(names.GIT_COMMIT)
+    if not commit:
+        return None
+    return str(commit)[:12] + (" (dirty)" if build.get(names.GIT_DIRTY) else "")
+
+
+def _nix(build: dict) -> str:
+    nix = build.get("nix")
+    return f"yes (nixpkgs {nix.get('nixpkgs_rev', 'unknown')})" if isinstance(nix, dict) else "no"
+
+
+# The facts read from each run's metadata sidecar: (name, value of a sidecar).
+METADATA_FACTS = [
+    ("CPU", lambda m: (m.get(names.META_HOST) or {}).get("cpu_model")),
+    ("logical cores", lambda m: (m.get(names.META_HOST) or {}).get("logical_cores")),
+    ("OS", lambda m: (m.get(names.META_HOST) or {}).get("os")),
+    ("kernel", lambda m: (m.get(names.META_HOST) or {}).get("kernel")),
+    ("compiler", lambda m: (m.get(names.META_BUILD) or {}).get("compiler")),
+    ("compiler flags", lambda m: (m.get(names.META_BUILD) or {}).get("compiler_flags")),
+    ("build type", lambda m: (m.get(names.META_BUILD) or {}).get("build_type")),
+    ("version", lambda m: (m.get(names.META_BUILD) or {}).get("version")),
+    ("git commit", lambda m: _git(m.get(names.META_BUILD) or {})),
+    ("Nix", lambda m: _nix(m.get(names.META_BUILD) or {})),
+    ("SIMD target", lambda m: (m.get(names.META_CONFIG) or {}).get("simd_target") or None),
+    ("Vulkan device", lambda m: (m.get("device") or {}).get("name")),
+    ("Vulkan driver", lambda m: _device_driver(m.get("device") or {})),
+    ("Vulkan API", lambda m: (m.get("device") or {}).get("api_version")),
+]
+
+
+def environment(run_dirs: list[Path]) -> dict[str, list[str]]:
+    """Every fact of METADATA_FACTS, each library's version and the CPU
+    governors of the runner's manifest: fact -> distinct values, sorted."""
+    facts: dict[str, set[str]] = {}
+
+    def add(fact: str, value) -> None:
+        if value is not None and value != "":
+            facts.setdefault(fact, set()).add(str(value))
+
+    for run_dir in run_dirs:
+        manifest = load.read_manifest(run_dir) or {}
+        for governor in (manifest.get("host") or {}).get("cpu_governors") or []:
+            add("CPU governor", governor)
+        for _, meta_path, _, _ in load.run_entries(run_dir):
+            meta = load.read_metadata(meta_path)
+            for fact, read in METADATA_FACTS:
+                add(fact, read(meta))
+            for library, version in sorted((meta.get("libraries") or {}).items()):
+                add(f"library {library}", version)
+    return {fact: sorted(values) for fact, values in facts.items()}
+
+
+def environment_differences(base: dict[str, list[str]], new: dict[str, list[str]]) -> list[tuple[str, list[str], list[str]]]:
+    """(fact, base values, new values) of every fact whose values differ, in
+    METADATA_FACTS order, then the rest by name."""
+    order = [fact for fact, _ in METADATA_FACTS]
+    facts = sorted(set(base) | set(new), key=lambda f: (order.index(f) if f in order else len(order), f))
+    return [(f, base.get(f, []), new.get(f, [])) for f in facts if base.get(f, []) != new.get(f, [])]
+
+
+# --- loading ---------------------------------------------------------------------------
+
+def load_side(name: str, paths: list[Path], run_dirs: list[Path]) -> Side:
+    """One side's runs (strictly, as the report loads them) and environment."""
+    frames = load.load_runs(run_dirs)
+    return Side(name, list(paths), [d.name for d in run_dirs], frames, environment(run_dirs))
+
+
+def compare_paths(base: list[Path], new: list[Path], options: Options) -> Comparison:
+    """Loads both sides (archives unpacked for the while) and compares them."""
+    with archive.unpacked(base) as base_dirs, archive.unpacked(new) as new_dirs:
+        return compare_sides(load_side("base", base, base_dirs), load_side("new", new, new_dirs), options)
+
+
+# --- the command (scripts/compare.py, python3 -m rtbench compare) ------------------
+
+def fraction(text: str) -> float:
+    """'5%' or '0.05' -> 0.05."""
+    try:
+        value = float(text[:-1]) / 100.0 if text.endswith("%") else float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a fraction (0.05) or a percentage (5%)") from None
+    if not 0 <= value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must lie in [0, 1) (or [0%, 100%))")
+    return value
+
+
+def positive_ms(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a positive number of milliseconds")
+    return value
+
+
+def parse_args(argv: list[str] | None, prog: str | None) -> tuple[argparse.Namespace, Options]:
+    p = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("runs", nargs="*", type=Path, metavar="BASE NEW",
+                   help="two run directories or run archives (.tar.xz): the base and the new one")
+    p.add_argument("--base", nargs="+", type=Path, metavar="RUN", help="base runs, pooled (instead of BASE NEW)")
+    p.add_argument("--new", nargs="+", type=Path, metavar="RUN", help="new runs, pooled (with --base)")
+    p.add_argument("--alpha", type=fraction, default=DEFAULT_ALPHA,
+                   help=f"significance level of the U test (default {DEFAULT_ALPHA})")
+    p.add_argument("--noise", type=fraction, default=DEFAULT_NOISE,
+                   help=f"smallest relative change called faster or slower (default {DEFAULT_NOISE:.0%})")
+    p.add_argument("--fail-above", type=fraction, metavar="FRACTION",
+                   help="exit 1 if a configuration is significantly slower by more than this (e.g. 10%%)")
+    p.add_argument("--budget-ms", type=positive_ms, nargs="+", default=list(budget.DEFAULT_BUDGETS_MS),
+                   metavar="MS", help="frame budgets (default: 16.67 33.33)")
+    p.add_argument("--all-cores", action="store_true",
+                   help="match a configuration that ran on all of its machine's cores with the other side's "
+                        "all-cores one, whatever the two core counts (for comparing machines)")
+    p.add_argument("--key-with", action="append", default=[], choices=ENVIRONMENT_KEYS,
+                   help="also match on this column (left out by default: it is the machine's, not the benchmark's)")
+    p.add_argument("-o", "--output", type=Path, metavar="DIR", help="write compare.md, compare.json and the plot here")
+    p.add_argument("-q", "--quiet", action="store_true", help="print no table, only errors and failures")
+    args = p.parse_args(argv)
+    if args.runs and (args.base or args.new):
+        p.error("give either BASE NEW or --base ... --new ..., not both")
+    if args.runs:
+        if len(args.runs) != 2:
+            p.error(f"expected two runs, BASE and NEW, got {len(args.runs)} (pool several with --base ... --new ...)")
+        args.base, args.new = [args.runs[0]], [args.runs[1]]
+    if not (args.base and args.new):
+        p.error("nothing to compare: give BASE NEW, or --base RUN... --new RUN...")
+    options = Options(args.alpha, args.noise, args.fail_above, tuple(args.budget_ms), args.all_cores,
+                      tuple(args.key_with))
+    return args, options
+
+
+def main(argv: list[str] | None = None, prog: str | None = None) -> int:
+    from rtbench import compare_output
+
+    args, options = parse_args(argv, prog)
+    prog = prog or "compare"
+    try:
+        comparison = compare_paths(args.base, args.new, options)
+        if args.output:
+            compare_output.write(comparison, args.output)
+    except (load.RunDataError, CompareError) as e:
+        print(f"{prog}: {e}", file=sys.stderr)
+        return 2
+    if not args.quiet:
+        compare_output.print_terminal(comparison)
+    failures = comparison.failures()
+    for failure in failures:
+        print(f"{prog}: {failure} is slower by more than {options.fail_above:.0%} (--fail-above)", file=sys.stderr)
+    return 1 if failures else 0
