@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import subprocess
 import sys
 from pathlib import Path
 
@@ -25,3 +26,22 @@ def raytracer() -> Path:
         if c and Path(c).is_file():
             return Path(c)
     pytest.fail("no raytracer binary: build a preset first or set RT_BINARY")
+
+
+def has_tracy_client(binary: Path) -> bool:
+    """Whether `binary --version` names a Tracy client version ("Tracy client: 0.14.1", not "not built in")."""
+    done = subprocess.run([binary, "--version"], capture_output=True, text=True, timeout=60)
+    return any(line.startswith("Tracy client: ") and line.split(": ", 1)[1][:1].isdigit()
+               for line in done.stdout.splitlines())
+
+
+@pytest.fixture(scope="session")
+def tracy_raytracer() -> Path:
+    """A binary with the Tracy client built in: $RT_PROFILE_BINARY, else the
+    profile preset's build (scripts/test builds it before pytest), else
+    $RT_BINARY when that one has it (under Nix it is the profile preset's)."""
+    candidates = [os.environ.get("RT_PROFILE_BINARY"), REPO_ROOT / "build/profile/raytracer", os.environ.get("RT_BINARY")]
+    for c in candidates:
+        if c and Path(c).is_file() and has_tracy_client(Path(c)):
+            return Path(c)
+    pytest.fail("no raytracer binary with the Tracy client: build the profile preset or set RT_PROFILE_BINARY")
