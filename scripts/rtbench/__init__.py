@@ -13,6 +13,7 @@ which the commands of scripts/ wrap: `scripts/bench`, `scripts/report.py`,
 - profiles:      declarative run matrices (profiles/*.toml) -> configurations
 - noise:         machine-noise checks (CPU governor, load, spread between repetitions)
 - runner:        builds the binary, runs each configuration as its own process
+- progress:      a build's output condensed to a line every 10 % (stdlib only; scripts/lib/steps.sh)
 - bench:         the bench command: profile -> runs -> report
 - load:          run directories -> one tidy pandas DataFrame, with clear errors
 - stats:         median, MAD, bootstrap CI, percentiles, modified z-score outliers

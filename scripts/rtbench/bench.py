@@ -228,9 +228,8 @@ def resolve_binary(args: argparse.Namespace, profile: profiles.Profile) -> Path 
             print(f"bench: binary {given}: no such file", file=sys.stderr)
             return None
         return given.resolve()
-    print(f"bench: building preset {preset} (-j{args.jobs})", flush=True)
     try:
-        return runner.build(preset, names.REPO_ROOT, args.jobs)
+        return runner.build(preset, names.REPO_ROOT, args.jobs, sys.stdout)
     except runner.BuildError as e:
         print(f"bench: {e}", file=sys.stderr)
         return None

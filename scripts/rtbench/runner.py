@@ -25,7 +25,7 @@ from dataclasses import asdict, dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
 
-from rtbench import atomic, load, names, noise, profiles, scenes
+from rtbench import atomic, load, names, noise, profiles, progress, scenes
 from rtbench.profiles import Config, Profile
 
 PENDING, OK, FAILED, UNAVAILABLE, INTERRUPTED = load.PENDING, load.OK, "failed", "unavailable", load.INTERRUPTED
@@ -204,24 +204,50 @@ def configure_presets(repo_root: Path) -> list[str]:
     return [p["name"] for p in data.get("configurePresets", []) if not p.get("hidden")]
 
 
-def build(preset: str, repo_root: Path, jobs: int) -> Path:
+def build(preset: str, repo_root: Path, jobs: int, out=None) -> Path:
     """Configures (once) and builds a preset; returns its raytracer binary.
-    Ninja makes an up-to-date build a no-op, so this is cheap when nothing changed."""
+    Ninja makes an up-to-date build a no-op, so this is cheap when nothing
+    changed. Prints one line per step to `out` (a build's every 10 %,
+    rtbench.progress); a failed step's BuildError carries its whole output."""
     if preset not in configure_presets(repo_root):
         raise BuildError(f"CMakePresets.json has no preset {preset!r} (presets: {', '.join(configure_presets(repo_root))})")
     build_dir = repo_root / "build" / preset
     steps = []
     if not (build_dir / "build.ninja").is_file():
-        steps.append(["cmake", "--preset", preset])
-    steps.append(["cmake", "--build", "--preset", preset, f"-j{jobs}", "--target", "raytracer"])
-    for step in steps:
-        done = subprocess.run(step, cwd=repo_root, capture_output=True, text=True)
-        if done.returncode != 0:
-            raise BuildError(f"`{' '.join(step)}` failed:\n{(done.stdout + done.stderr)[-4000:]}")
+        steps.append((f"configuring preset {preset}", ["cmake", "--preset", preset], False))
+    steps.append((f"building preset {preset}",
+                  ["cmake", "--build", "--preset", preset, f"-j{jobs}", "--target", "raytracer"], True))
+    for label, argv, is_build in steps:
+        _build_step(label, argv, is_build, repo_root, out)
     binary = build_dir / "raytracer"
     if not binary.is_file():
         raise BuildError(f"the build of preset {preset} did not produce {binary}")
     return binary
+
+
+def _build_step(label: str, argv: list[str], is_build: bool, cwd: Path, out) -> None:
+    """One line (a build: one every 10 % and a last one), the output kept for the error."""
+    show = progress.BuildProgress(f"bench: {label}")
+    if not is_build:
+        print(f"bench: {label}", file=out, flush=True)
+    lines = []
+    proc = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            errors="replace")
+    try:
+        for line in proc.stdout:
+            lines.append(line)
+            message = show.feed(line)
+            if message:
+                print(message, file=out, flush=True)
+        proc.wait()
+    except BaseException:
+        proc.kill()
+        proc.wait()
+        raise
+    if is_build:
+        print(show.summary(), file=out, flush=True)
+    if proc.returncode != 0:
+        raise BuildError(f"`{' '.join(argv)}` failed (exit {proc.returncode}); its whole output:\n{''.join(lines)}")
 
 
 # --- running ----------------------------------------------------------------------
