@@ -364,7 +364,7 @@ def parse_args(argv: list[str] | None, prog: str | None) -> tuple[argparse.Names
     p.add_argument("--alpha", type=fraction, default=DEFAULT_ALPHA,
                    help=f"significance level of the U test (default {DEFAULT_ALPHA})")
     p.add_argument("--noise", type=fraction, default=DEFAULT_NOISE,
-                   help=f"smallest relative change called faster or slower (default {DEFAULT_NOISE:.0%})")
+                   help=f"smallest relative change called faster or slower (default {DEFAULT_NOISE:.0%}%)")
     p.add_argument("--fail-above", type=fraction, metavar="FRACTION",
                    help="exit 1 if a configuration is significantly slower by more than this (e.g. 10%%)")
     p.add_argument("--budget-ms", type=positive_ms, nargs="+", default=list(budget.DEFAULT_BUDGETS_MS),

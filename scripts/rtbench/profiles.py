@@ -38,7 +38,10 @@ ACCEL_FLAG = "--accel"
 # the other values are the schema's lane_widths.
 NATIVE_LANES = "native"
 # Axes every renderer takes: raytracer options of the run, not of the renderer.
-RUN_AXES = {"device": "--device", "present": "--present"}
+# `size` ("WIDTHxHEIGHT") has no flag of its own: it sets the configuration's
+# width and height (sized()), e.g. to run the gpu renderer at a second size.
+SIZE_AXIS = "size"
+RUN_AXES = {"device": "--device", "present": "--present", SIZE_AXIS: None}
 # Every axis and the raytracer option it sets: the renderer options of the
 # schema (a renderer takes those its renderers[].options lists), then RUN_AXES.
 RENDERER_AXES = {**names.OPTION_FLAGS, **RUN_AXES}
@@ -96,7 +99,8 @@ class Config:
         argv += ["--width", str(self.width), "--height", str(self.height)]
         argv += ["--warmup", str(self.warmup), "--frames", str(self.frames)]
         for axis, value in self.axes:
-            argv += [RENDERER_AXES[axis], value]
+            if RENDERER_AXES[axis]:
+                argv += [RENDERER_AXES[axis], value]
         argv += [*self.args, "--csv", str(csv), "--meta", str(meta), "--quiet"]
         return argv
 
@@ -239,9 +243,15 @@ OVERRIDE_RULES = {
     "stages": Rule("str", OPTIONAL, shape="list"),
     "scenes": Rule("str", OPTIONAL, shape="list"),
     "accels": replace(TOP_RULES["accels"], default=OPTIONAL),
+    # Axis values of the configuration (as its command line has them), e.g. to
+    # run the thread counts of a scaling study on one scene only.
+    "threads": Rule("int", OPTIONAL, shape="list", minimum=1),
+    "lanes": Rule("int|str", OPTIONAL, shape="list", choices=(*names.LANE_WIDTHS, NATIVE_LANES)),
     **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in ("width", "height", "warmup", "frames", "args")},
     "skip": Rule("bool", OPTIONAL),
 }
+# The axes an override can match on.
+OVERRIDE_AXES = ("threads", "lanes")
 # The values of each axis of [renderers.NAME]; a renderer option the schema
 # gains later takes any integer or string until it has a rule here.
 AXIS_RULES = {
@@ -252,6 +262,7 @@ AXIS_RULES = {
     "partition": Rule("str", OPTIONAL, "axis", choices=tuple(names.PARTITIONS)),
     "device": Rule("int|str", OPTIONAL, "axis", minimum=0),
     "present": Rule("str", OPTIONAL, "axis", choices=tuple(names.PRESENT_MODES)),
+    SIZE_AXIS: Rule("str", OPTIONAL, "axis", pattern=r"[1-9]\d*x[1-9]\d*", what='an image size "WIDTHxHEIGHT"'),
 }
 ANY_AXIS = Rule("int|str", OPTIONAL, "axis")
 
@@ -425,11 +436,20 @@ def expand(profile: Profile, scene_paths: list[Path], cpu_count: int, renderers:
                 width=profile.width, height=profile.height, warmup=profile.warmup, frames=profile.frames,
                 axes=tuple(zip(axes, combo)), args=(*profile.args, *spec["args"]), accel=accel,
             )
-            config = apply_overrides(config, profile.overrides)
+            config = apply_overrides(sized(config), profile.overrides)
             if config is not None:
                 configs.append(replace(config, **(forced or {})))
     _check_unique(configs)
     return configs
+
+
+def sized(config: Config) -> Config:
+    """The configuration at the image size of its `size` axis, if it has one."""
+    size = dict(config.axes).get(SIZE_AXIS)
+    if size is None:
+        return config
+    width, height = (int(n) for n in size.split("x"))
+    return replace(config, width=width, height=height)
 
 
 def apply_overrides(config: Config, overrides: tuple[dict, ...]) -> Config | None:
@@ -463,7 +483,17 @@ def _matches(config: Config, override: dict) -> bool:
         and config.variant.label in override.get("stages", [config.variant.label])
         and config.scene in override.get("scenes", [config.scene])
         and config.accel in override.get("accels", [config.accel])
+        and all(_axis_matches(config, override, axis) for axis in OVERRIDE_AXES)
     )
+
+
+def _axis_matches(config: Config, override: dict, axis: str) -> bool:
+    """True where the override names no values of this axis, or the
+    configuration has the axis at one of them."""
+    if axis not in override:
+        return True
+    value = dict(config.axes).get(axis)
+    return value is not None and value in {str(v) for v in override[axis]}
 
 
 def _check_unique(configs: list[Config]) -> None:

@@ -1,4 +1,4 @@
-"""One way in: `python3 -m rtbench bench|report|gen-scene`, and the commands
+"""One way in: `python3 -m rtbench bench|report|compare|gen-scene`, and the commands
 of scripts/ as thin wrappers of it, each with its options and exit codes."""
 
 import os
@@ -7,7 +7,8 @@ import sys
 
 import pytest
 
-WRAPPERS = {"bench": "scripts/bench", "report": "scripts/report.py", "gen-scene": "scripts/gen_scene.py"}
+WRAPPERS = {"bench": "scripts/bench", "report": "scripts/report.py", "compare": "scripts/compare.py",
+            "gen-scene": "scripts/gen_scene.py"}
 
 
 def run(repo_root, *argv):

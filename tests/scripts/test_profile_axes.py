@@ -1,0 +1,78 @@
+"""The profile keys the GPU machine's reference run needs: overrides that
+match thread counts and lane widths, the `size` axis, and the gpu-machine
+profile they express."""
+
+import re
+from collections import Counter
+from pathlib import Path
+
+import pytest
+from rtbench import profiles
+
+SCENES = [Path("scenes/default.json"), Path("scenes/random100.json")]
+
+
+def profile(**renderers_and_overrides):
+    raw = {"description": "test", "scenes": ["default", "random100"], "stages": ["original", "optimized"],
+           **renderers_and_overrides}
+    return profiles.parse_profile(raw, Path("test.toml"))
+
+
+def test_an_override_matches_thread_counts_and_lane_widths():
+    p = profile(renderers={"simd_tbb": {"threads": [1, 2, 4], "lanes": [4, "native"]}},
+                overrides=[{"scenes": ["default"], "threads": [1, 2], "skip": True},
+                           {"lanes": ["native"], "threads": [4], "frames": 9}])
+    configs = {c.id: c for c in profiles.expand(p, SCENES, 4)}
+    assert sorted(i for i in configs if i.startswith("default-")) == [
+        "default-simd_tbb-optimized-threads4-lanes4", "default-simd_tbb-optimized-threads4-lanesnative",
+        "default-simd_tbb-original-threads4-lanes4", "default-simd_tbb-original-threads4-lanesnative"]
+    assert len([i for i in configs if i.startswith("random100-")]) == 12
+    assert configs["random100-simd_tbb-original-threads4-lanesnative"].frames == 9
+    assert configs["random100-simd_tbb-original-threads4-lanes4"].frames == profiles.TOP_RULES["frames"].default
+
+
+def test_an_override_naming_an_axis_never_matches_a_renderer_without_it():
+    p = profile(renderers={"sequential": {}, "tbb_only": {"threads": [1, 2]}},
+                overrides=[{"threads": [1], "skip": True}])
+    ids = [c.id for c in profiles.expand(p, SCENES[:1], 2)]
+    assert "default-sequential-original" in ids and "default-tbb_only-original-threads1" not in ids
+
+
+@pytest.mark.parametrize("override, message", [({"threads": ["all"]}, "overrides[0].threads"),
+                                               ({"lanes": [3]}, "overrides[0].lanes")])
+def test_override_axis_values_are_checked(override, message):
+    with pytest.raises(profiles.ProfileError, match=re.escape(message)):
+        profile(renderers={"simd_tbb": {}}, overrides=[override])
+
+
+def test_the_size_axis_sets_width_and_height_and_names_the_configuration():
+    p = profile(renderers={"gpu": {"size": ["800x600", "1920x1080"]}})
+    configs = {c.id: c for c in profiles.expand(p, SCENES[:1], 2)}
+    big = configs["default-gpu-optimized-size1920x1080"]
+    assert (big.width, big.height) == (1920, 1080)
+    argv = big.argv(Path("raytracer"), Path("x.csv"), Path("x.meta.json"))
+    assert argv[argv.index("--width") + 1] == "1920" and argv[argv.index("--height") + 1] == "1080"
+    assert "size" not in " ".join(argv) and argv.count("--width") == 1
+    assert (configs["default-gpu-optimized-size800x600"].width, configs["default-gpu-optimized-size800x600"].height) == (800, 600)
+
+
+def test_a_malformed_size_names_the_key():
+    with pytest.raises(profiles.ProfileError, match=r"renderers\.gpu\.size must be an image size"):
+        profile(renderers={"gpu": {"size": "1920*1080"}})
+
+
+def test_the_gpu_machine_profile_on_16_cores():
+    p = profiles.load_profile("gpu-machine")
+    configs = profiles.expand(p, [profiles.resolve_scene(s) for s in p.scenes], 16)
+    assert Counter(c.renderer for c in configs) == {"sequential": 9, "simd_tbb": 18, "simd_only": 10, "tbb_only": 13,
+                                                     "gpu": 18, "embree": 9}
+    scaling = [c for c in configs if dict(c.axes).get("threads") not in (None, "16") or dict(c.axes).get("lanes") == "4"]
+    assert {(c.scene, c.variant.label) for c in scaling} == {("random100", "optimized")}
+    threads = {(c.renderer, dict(c.axes).get("lanes")): set() for c in configs}
+    for c in configs:
+        if c.scene == "random100" and c.variant.label == "optimized" and "threads" in dict(c.axes):
+            threads[(c.renderer, dict(c.axes).get("lanes"))].add(int(dict(c.axes)["threads"]))
+    expected = {1, 2, 4, 8, 16}
+    assert threads[("simd_tbb", "4")] == threads[("simd_tbb", "native")] == threads[("tbb_only", None)] == expected
+    sizes = Counter((c.width, c.height) for c in configs if c.renderer == "gpu")
+    assert sizes == {(800, 600): 9, (1920, 1080): 9}
