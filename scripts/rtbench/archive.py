@@ -1,5 +1,5 @@
 """Committed run directories: a run packed as one compressed tar archive
-(data/runs/NAME.tar.xz, see data/runs/README.md) reads like the directory
+(data/reference-runs/NAME.tar.xz, see data/reference-runs/README.md) reads like the directory
 it holds.
 
 The report and compare take a run directory or such an archive. An archive

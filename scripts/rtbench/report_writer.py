@@ -145,7 +145,8 @@ def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     parser = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR",
-                        help="run directory written by scripts/bench, or a run archive (.tar.xz, data/runs/README.md)")
+                        help="run directory written by scripts/bench, or a run archive "
+                             "(.tar.xz, data/reference-runs/README.md)")
     parser.add_argument("-o", "--output", type=Path, default=Path("report"), help="report directory (default: report/)")
     parser.add_argument("--gpu-p", type=float, metavar="N",
                         help="processor count of the GPU for Karp-Flatt (default: per-device estimate, "
