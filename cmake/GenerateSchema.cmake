@@ -67,7 +67,13 @@ function(rt_renderer_definition out json i)
     endif()
   endforeach()
   rt_bit_mask(mask "${json}" RendererOption renderers ${i} options)
-  set(${out} "    RendererDefinition{\"${flag}\",${pair} ${mask}},\n" PARENT_SCOPE)
+  string(JSON own ERROR_VARIABLE no_own GET "${json}" renderers ${i} own_accel)
+  if(no_own)
+    set(own "std::nullopt")
+  else()
+    set(own "Accel::${own}")
+  endif()
+  set(${out} "    RendererDefinition{\"${flag}\",${pair} ${mask}, ${own}},\n" PARENT_SCOPE)
 endfunction()
 
 function(rt_generate_schema_header json_path header_path)
@@ -150,9 +156,10 @@ inline constexpr std::array<std::string_view, ${n_options}> kRendererOptionFlags
 inline constexpr std::array<int, ${n_lane_widths}> kLaneWidths{${lane_widths}};\n\n\
 // A renderer row: its flag, whether it runs on the CPU as a (kernel,\n\
 // scheduler) pair (nullopt for the GPU renderer), and the renderer options\n\
-// it accepts as a bit mask over RendererOption.\n\
+// it accepts as a bit mask over RendererOption; ownAccel: the structure a\n\
+// renderer always uses, whatever --accel says (Embree's own BVH).\n\
 struct RendererDefinition {\n  std::string_view flag;\n  std::optional<Kernel> kernel;\n\
-  std::optional<Scheduler> scheduler;\n  unsigned optionMask;\n\
+  std::optional<Scheduler> scheduler;\n  unsigned optionMask;\n  std::optional<Accel> ownAccel;\n\
   [[nodiscard]] constexpr bool accepts(RendererOption o) const { return (optionMask >> static_cast<int>(o)) & 1u; }\n};\n\
 inline constexpr std::array<RendererDefinition, ${n_renderers}> kRendererDefinitions{{\n${renderer_defs}}};\n\n\
 struct StageDefinition {\n  Algorithm algorithm;\n  unsigned earlyExitMask;\n};\n\

@@ -85,6 +85,8 @@ RENDERER_FLAGS: dict[str, str] = schema.renderer_flags()
 # renderer accepts which: a renderer takes only the options the schema lists.
 OPTION_FLAGS: dict[str, str] = schema.renderer_options()
 RENDERER_OPTIONS: dict[str, list[str]] = {r: schema.accepted_options(r) for r in RENDERERS}
+# Renderers that always use one structure whatever --accel says (embree: its own BVH).
+OWN_ACCEL: dict[str, str] = {r: row["own_accel"] for r, row in schema.renderers().items() if row.get("own_accel")}
 LANE_WIDTHS: list[int] = schema.lane_widths()
 PARTITIONS: list[str] = list(schema.schema()["partitions"])
 PRESENT_MODES: list[str] = schema.present_modes()

@@ -434,10 +434,12 @@ def expand(profile: Profile, scene_paths: list[Path], cpu_count: int, renderers:
             config = Config(
                 scene=scene_path.stem, scene_path=str(scene_path), renderer=renderer, variant=variant,
                 width=profile.width, height=profile.height, warmup=profile.warmup, frames=profile.frames,
-                axes=tuple(zip(axes, combo)), args=(*profile.args, *spec["args"]), accel=accel,
+                axes=tuple(zip(axes, combo)), args=(*profile.args, *spec["args"]),
+                accel=names.OWN_ACCEL.get(renderer, accel),
             )
             config = apply_overrides(sized(config), profile.overrides)
-            if config is not None:
+            # A renderer with its own structure runs once, not once per accel.
+            if config is not None and not (renderer in names.OWN_ACCEL and any(c.id == config.id for c in configs)):
                 configs.append(replace(config, **(forced or {})))
     _check_unique(configs)
     return configs

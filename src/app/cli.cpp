@@ -211,6 +211,13 @@ void applyModelOptions(const RawOptions& raw, RunConfig& config) {
   if (!raw.algorithm.empty()) config.options.algorithm = *enumByName<Algorithm>(schema::kAlgorithmNames, raw.algorithm);
   if (!raw.earlyExit.empty()) config.options.earlyExits = parseEarlyExits(raw.earlyExit);
   if (!raw.accel.empty()) config.options.accel = *enumByName<Accel>(schema::kAccelNames, raw.accel);
+  if (const auto own = definitionOf(config.renderer).ownAccel) {
+    if (!raw.accel.empty() && config.options.accel != *own) {
+      throw CLI::ValidationError("--accel", "renderer " + std::string(nameOf(config.renderer)) + " always uses its own " +
+                                                std::string(nameOf(*own)) + "; --accel " + raw.accel + " does not apply");
+    }
+    config.options.accel = *own;
+  }
   if (!raw.present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, raw.present);
 }
 

@@ -52,6 +52,18 @@ TEST(Cli, AlgorithmAndEarlyExitLists) {
   EXPECT_EQ(parseOk({"--early-exit", "none"}).options.earlyExits, EarlyExitSet());
 }
 
+// --accel picks the structure; Embree always walks its own BVH, so that is
+// what its runs record, and asking it for brute force is refused.
+TEST(Cli, AccelChoosesTheStructureAndEmbreeKeepsItsOwn) {
+  EXPECT_EQ(parseOk({}).options.accel, Accel::none);
+  EXPECT_EQ(parseOk({"--simd", "--accel", "bvh"}).options.accel, Accel::bvh);
+  EXPECT_EQ(parseOk({"--embree"}).options.accel, Accel::bvh);
+  EXPECT_EQ(parseOk({"--embree", "--accel", "bvh"}).options.accel, Accel::bvh);
+  const CliExit refused = test::parseFails({"--embree", "--accel", "none"});
+  EXPECT_EQ(refused.code, kExitBadInput);
+  EXPECT_NE(refused.error.find("always uses its own bvh"), std::string::npos) << refused.error;
+}
+
 TEST(Cli, SaveFrameAndOutputs) {
   const RunConfig c = parseOk({"--warmup", "2", "--frames", "3", "--save-frame", "4:/tmp/a.png", "--save-frame",
                                "0:/tmp/b.png", "--csv", "/tmp/run.csv"});

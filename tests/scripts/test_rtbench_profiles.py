@@ -197,6 +197,21 @@ def test_accels_are_an_axis_passed_as_accel(tmp_path):
         assert c.frames == (9 if c.accel == names.ACCELS[-1] else 5)  # overrides match on accels
 
 
+def test_a_renderer_with_its_own_structure_runs_once_with_it(tmp_path):
+    (own, accel), *_ = names.OWN_ACCEL.items()
+    path = _write(tmp_path, f"""
+        description = "x"
+        scenes = ["default"]
+        stages = ["optimized"]
+        accels = {list(names.ACCELS)!r}
+        [renderers.{own}]
+        [renderers.sequential]
+    """.replace("'", '"'))
+    configs = profiles.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
+    assert [c.accel for c in configs if c.renderer == own] == [accel]
+    assert sorted(c.accel for c in configs if c.renderer == "sequential") == sorted(names.ACCELS)
+
+
 def test_an_unknown_accel_is_rejected_naming_the_schemas(tmp_path):
     path = _write(tmp_path, """
         description = "x"
