@@ -195,7 +195,13 @@ def ratio_plot(cmp: Comparison, stem: Path) -> list[Path]:
             err = [r["ratio"] - r["ci_low"], r["ci_high"] - r["ratio"]]
             ax.errorbar(r["ratio"], y[mask], xerr=err, fmt="o", color=color, markersize=3, capsize=2, label=verdict_)
     ax.set_xscale("log")
+    # Labelled ticks at 1..9 x 10^k over a narrow range, 1, 2, 5 over a wide one.
+    ends = rows[["ci_low", "ci_high", "ratio"]].to_numpy(dtype=float)
+    ends = ends[np.isfinite(ends) & (ends > 0)]
+    decades = np.log10(ends.max() / ends.min()) if ends.size else 0.0
+    ax.xaxis.set_major_locator(ticker.LogLocator(base=10, subs=np.arange(1.0, 10.0) if decades <= 1.0 else (1.0, 2.0, 5.0)))
     ax.xaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.xaxis.set_minor_formatter(ticker.NullFormatter())
     ax.set_yticks(y, rows["label"], fontsize=7)
     ax.set_ylim(-0.8, len(rows) - 0.2)
     ax.set_xlabel("new / base, median render_ms (log scale; < 1: faster)")
