@@ -67,6 +67,17 @@ if(RT_EMBREE AND NOT embree_FOUND)
     " (or run scripts/setup-debian as root), or configure with -DRT_EMBREE=OFF.")
 endif()
 
+# GLFW 3, for the live window (--window): optional. On by default where it
+# is found (CI and the Nix package build it); off, the binary keeps today's
+# dependencies and --window answers "not built" (exit 2).
+find_package(glfw3 3.3 QUIET)
+option(RT_WINDOW "Build the live window (--window): GLFW + a Vulkan swapchain" ${glfw3_FOUND})
+if(RT_WINDOW AND NOT glfw3_FOUND)
+  message(FATAL_ERROR
+    "RT_WINDOW is ON but GLFW 3 was not found. On Debian/Ubuntu: apt-get install libglfw3-dev"
+    " (or run scripts/setup-debian as root), or configure with -DRT_WINDOW=OFF.")
+endif()
+
 # Versions recorded in every run's metadata (the ones this binary was built against).
 set(RT_LIBRARY_VERSIONS
   "glm=${glm_VERSION}"
@@ -79,4 +90,7 @@ set(RT_LIBRARY_VERSIONS
   "glslang=${RT_GLSLANG_VERSION}")
 if(RT_EMBREE)
   list(APPEND RT_LIBRARY_VERSIONS "embree=${embree_VERSION}")
+endif()
+if(RT_WINDOW)
+  list(APPEND RT_LIBRARY_VERSIONS "glfw=${glfw3_VERSION}")
 endif()

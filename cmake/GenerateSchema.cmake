@@ -89,6 +89,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_json_names(stages "${json}" stages)
   rt_json_names(partitions "${json}" partitions)
   rt_json_names(present_modes "${json}" present_modes)
+  rt_json_names(swapchain_present_modes "${json}" swapchain_present_modes)
   rt_json_names(columns "${json}" frame_csv)
   rt_json_names(meta_keys "${json}" run_metadata)
   rt_json_names(kernels "${json}" kernels)
@@ -103,6 +104,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_enum_block(b_stages Stage "${stages}")
   rt_enum_block(b_partitions Partition "${partitions}")
   rt_enum_block(b_present PresentMode "${present_modes}")
+  rt_enum_block(b_swapchain_present SwapchainPresentMode "${swapchain_present_modes}")
   rt_enum_block(b_columns FrameCsvColumn "${columns}")
   rt_enum_block(b_meta RunMetadataKey "${meta_keys}")
   rt_enum_block(b_kernels Kernel "${kernels}")
@@ -149,7 +151,7 @@ function(rt_generate_schema_header json_path header_path)
 "// Generated from schema/rt_schema.json by cmake/GenerateSchema.cmake. Do not edit.\n\
 #pragma once\n#include <array>\n#include <optional>\n#include <string_view>\n\nnamespace rt::schema {\n\n\
 inline constexpr int kVersion = ${version};\n\n\
-${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_accels}${b_stages}${b_partitions}${b_present}${b_columns}${b_meta}\
+${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_accels}${b_stages}${b_partitions}${b_present}${b_swapchain_present}${b_columns}${b_meta}\
 ${b_kernels}${b_schedulers}${b_options}\
 inline constexpr std::array<std::string_view, ${n_options}> kRendererOptionFlags{\n${option_flags}};\n\n\
 // --lanes values besides 'native' (pixels per SIMD packet).\n\

@@ -66,6 +66,8 @@ struct RawOptions {
   std::string lanes = "native";
   std::string partition;
   std::string csv, meta, present;
+  std::string swapchainPresentMode;
+  bool window = false;
   std::vector<std::string> saveFrames;
   RendererOptionSlots rendererOptions{};
   CLI::Option* csvOption = nullptr;
@@ -125,7 +127,8 @@ void addRendererChoice(CLI::App& app, RawOptions& raw) {
 void addFrameOptions(CLI::App& app, RunConfig& config) {
   app.add_option("--width", config.extent.width, "image width in pixels")->check(CLI::Range(1, 16384));
   app.add_option("--height", config.extent.height, "image height in pixels")->check(CLI::Range(1, 16384));
-  app.add_option("--frames", config.measuredFrames, "measured frames")->check(CLI::Range(1, 1000000));
+  app.add_option("--frames", config.measuredFrames, "measured frames (0 with --window: until the window is closed)")
+      ->check(CLI::Range(0, 1000000));
   app.add_option("--warmup", config.warmupFrames, "warm-up frames before the measured ones")
       ->check(CLI::Range(0, 1000000));
 }
@@ -171,12 +174,18 @@ void addOutputOptions(CLI::App& app, RawOptions& raw) {
 
 void addDeviceOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
   app.add_option("--present", raw.present,
-                 "none|upload: where Present puts each frame (default: upload into the Vulkan device's present "
+                 joinNames(schema::kPresentModeNames, "|") + ": where Present puts each frame (default: upload into the Vulkan device's present "
                  "image when a device opens, else none)")
       ->check(CLI::IsMember(namesOf(schema::kPresentModeNames)));
   app.add_option("--device", config.device,
                  "Vulkan device: INDEX or NAME-SUBSTRING (default: first discrete GPU, else integrated, else CPU)");
   app.add_flag("--list-devices", config.listDevices, "list the Vulkan devices and exit");
+  app.add_flag("--window", raw.window,
+               "show the frames in a window (--present window): GLFW + a Vulkan swapchain; Esc closes it");
+  app.add_option("--present-mode", raw.swapchainPresentMode,
+                 "with --window: the swapchain's present mode, " + joinNames(schema::kSwapchainPresentModeNames, "|") +
+                     " (default fifo: one frame per display refresh)")
+      ->check(CLI::IsMember(namesOf(schema::kSwapchainPresentModeNames)));
   app.add_flag("--vk-validation", config.vkValidation,
                "enable VK_LAYER_KHRONOS_validation; any warning or error fails the run (exit 1)");
 }
@@ -221,6 +230,26 @@ void applyModelOptions(const RawOptions& raw, RunConfig& config) {
   if (!raw.present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, raw.present);
 }
 
+void applyWindowOptions(const RawOptions& raw, RunConfig& config) {
+  if (raw.window) {
+    if (config.present && config.present != PresentMode::window) {
+      throw CLI::ValidationError("--window", "--window presents into the window; it excludes --present " + raw.present);
+    }
+    config.present = PresentMode::window;
+  }
+  if (config.windowed() && !RT_WINDOW) {
+    throw CLI::ValidationError("--window", "this build has no window (configure with -DRT_WINDOW=ON; Debian: libglfw3-dev)");
+  }
+  if (!raw.swapchainPresentMode.empty()) {
+    if (!config.windowed()) throw CLI::ValidationError("--present-mode", "--present-mode needs --window");
+    config.swapchainPresentMode =
+        *enumByName<schema::SwapchainPresentMode>(schema::kSwapchainPresentModeNames, raw.swapchainPresentMode);
+  }
+  if (config.measuredFrames == 0 && !config.windowed()) {
+    throw CLI::ValidationError("--frames", "--frames 0 (run until the window is closed) needs --window");
+  }
+}
+
 void applyOutputs(const RawOptions& raw, RunConfig& config) {
   if (*raw.csvOption) {
     config.csvPath = raw.csv;
@@ -232,13 +261,22 @@ void applyOutputs(const RawOptions& raw, RunConfig& config) {
   }
   for (const auto& text : raw.saveFrames) {
     SaveFrameRequest request = parseSaveFrame(text);
-    if (request.frame >= config.totalFrames()) {
+    if (!config.untilClosed() && request.frame >= config.totalFrames()) {
       throw CLI::ValidationError("--save-frame", "frame " + std::to_string(request.frame) + " is past the last frame (" +
                                                      std::to_string(config.totalFrames() - 1) + ")");
     }
     requireExistingDirectory(request.file, "--save-frame");
     config.saveFrames.push_back(std::move(request));
   }
+}
+
+// "GLFW 3.3.8" from the library versions ("...,glfw=3.3.8,..."), in RT_WINDOW builds.
+std::string windowLibraryText(std::string_view libraryVersions) {
+  if (!RT_WINDOW) return "not built in";
+  const auto at = libraryVersions.find("glfw=");
+  if (at == std::string_view::npos) return "GLFW";
+  const auto version = libraryVersions.substr(at + 5);
+  return "GLFW " + std::string(version.substr(0, version.find(',')));
 }
 
 }  // namespace
@@ -264,6 +302,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     if (raw.version) return CliExit{0, versionText(), ""};
     applyRendererChoice(raw, config);
     applyModelOptions(raw, config);
+    applyWindowOptions(raw, config);
     applyOutputs(raw, config);
   } catch (const CLI::CallForHelp&) {
     return CliExit{0, app.help(), ""};
@@ -280,7 +319,8 @@ std::string versionText() {
   std::ostringstream out;
   out << "raytracer " << b.version << " (commit " << b.gitCommit << (b.gitDirty ? ", dirty" : "") << ", "
       << b.buildType << ", " << b.compiler << ")\n"
-      << "Tracy client: " << (b.tracyClient.empty() ? "not built in" : b.tracyClient) << "\n";
+      << "Tracy client: " << (b.tracyClient.empty() ? "not built in" : b.tracyClient) << "\n"
+      << "Window (--window): " << windowLibraryText(b.libraryVersions) << "\n";
   return out.str();
 }
 

@@ -3,6 +3,9 @@
 #include <ostream>
 
 #include "gpu/context.h"
+#if RT_WINDOW
+#include "app/window_session.h"
+#endif
 
 namespace rt {
 namespace {
@@ -18,6 +21,12 @@ DeviceSetup setUpDevice(const RunConfig& config, std::ostream& notes) {
   if (!required && config.present == PresentMode::none) return {{PresentMode::none, nullptr}, "--present none"};
 
   const gpu::ContextOptions options{.deviceSelector = config.device, .validation = config.vkValidation};
+#if RT_WINDOW
+  if (config.windowed()) {
+    auto window = WindowSession::open(config, options);
+    return {{PresentMode::window, window->context(), window->swapchain()}, "--window", window};
+  }
+#endif
   if (required) {
     const PresentMode mode = config.present.value_or(PresentMode::upload);
     return {{mode, gpu::Context::open(options)}, config.present ? "--present" : "default: a Vulkan device is open"};

@@ -29,14 +29,16 @@ void plotFrame([[maybe_unused]] const FrameRecord& r, [[maybe_unused]] Extent ex
 
 }  // namespace
 
-FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config) {
+FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config, LiveView* view) {
   renderer.prepare(scene, config.extent, config.options);
   FrameLoopResult result;
   result.savedFrames.assign(config.saveFrames.size(), Image(config.extent));
-  FrameRecorder recorder(static_cast<std::size_t>(config.totalFrames()));
+  const bool untilClosed = config.untilClosed() && view != nullptr;
+  FrameRecorder recorder(static_cast<std::size_t>(untilClosed ? kUntilClosedRecordCapacity : config.totalFrames()));
 
   try {
-    for (long long k = 0; k < config.totalFrames(); ++k) {
+    for (long long k = 0; untilClosed || k < config.totalFrames(); ++k) {
+      if (view && !view->keepRunning()) break;
       const auto t0 = Clock::now();
       const CameraFrame camera = [&] {
         ZoneScopedN(kUpdateZone);
@@ -59,9 +61,11 @@ FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunCo
                                .updateMs = millisecondsBetween(t0, t1),
                                .renderMs = millisecondsBetween(t1, t2),
                                .presentMs = millisecondsBetween(t2, t3),
-                               .gpuMs = renderer.lastGpuMs()};
+                               .gpuMs = renderer.lastGpuMs(),
+                               .acquireMs = view ? view->lastAcquireMs() : std::nullopt};
       recorder.record(record);
       plotFrame(record, config.extent);
+      if (view) view->frameDone(record);
       // Only saved frames come back to the host, after the timed phases.
       for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
         if (config.saveFrames[i].frame == k) renderer.readPresented(result.savedFrames[i]);

@@ -56,6 +56,9 @@ void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id,
     case FrameCsvColumn::gpu_ms:
       if (r.gpuMs) appendNumber(out, *r.gpuMs);
       return;
+    case FrameCsvColumn::acquire_ms:
+      if (r.acquireMs) appendNumber(out, *r.acquireMs);
+      return;
   }
   throw std::logic_error("unhandled CSV column");
 }

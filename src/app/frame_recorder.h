@@ -6,6 +6,7 @@
 
 #include "core/image.h"
 #include "gpu/device_info.h"
+#include "gpu/window_presentation.h"
 #include "render/renderer.h"
 
 namespace rt {
@@ -18,6 +19,7 @@ struct FrameRecord {
   double renderMs = 0.0;
   double presentMs = 0.0;
   std::optional<double> gpuMs;
+  std::optional<double> acquireMs;  // --window: the part of presentMs spent waiting for a swapchain image
 };
 
 // What every row of a run shares.
@@ -31,6 +33,8 @@ struct RunIdentity {
   std::string presentReason{};            // why this present mode (metadata)
   std::optional<gpu::DeviceInfo> device{};  // the Vulkan device used, if any
   bool validation = false;                // Vulkan validation layer on
+  std::optional<gpu::SwapchainInfo> swapchain{};  // --window: the window's swapchain
+  bool windowClosed = false;              // --window: closed before the last frame (or --frames 0)
 };
 
 // Holds every frame's record in storage sized before the frame loop, so

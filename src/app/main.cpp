@@ -17,6 +17,10 @@
 #include "core/atomic_file.h"
 #include "core/profiler.h"
 #include "gpu/context.h"
+#include "gpu/window_presentation.h"
+#if RT_WINDOW
+#include "app/window_session.h"
+#endif
 #include "scene/scene_loader.h"
 
 namespace {
@@ -92,9 +96,19 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
   if (config.tracyWait) waitForTracyViewer();
   [[maybe_unused]] const std::string description = describeRun(identity, config);
   TracyMessage(description.data(), description.size());
-  const rt::FrameLoopResult result = rt::runFrameLoop(*renderer, scene, config);
+  rt::LiveView* view = nullptr;
+#if RT_WINDOW
+  view = setup.window.get();
+#endif
+  const rt::FrameLoopResult result = rt::runFrameLoop(*renderer, scene, config, view);
   times.finishedAt = std::chrono::system_clock::now();
   identity.renderer = renderer->info();  // now with what prepare() built
+#if RT_WINDOW
+  if (setup.window) {
+    identity.swapchain = setup.window->swapchainInfo();
+    identity.windowClosed = setup.window->closed();
+  }
+#endif
 
   // Frames that completed are written even when a later one failed.
   writeOutputs(config, identity, scene, result, times);
@@ -127,6 +141,9 @@ int main(int argc, char** argv) {
   } catch (const rt::RendererUnavailable& e) {
     std::cerr << "raytracer: " << e.what() << "\n";
     return rt::kExitBadInput;
+  } catch (const rt::gpu::WindowUnavailable& e) {
+    std::cerr << "raytracer: no window: " << e.what() << "\n";
+    return rt::kExitNoDevice;
   } catch (const rt::gpu::DeviceUnavailable& e) {
     std::cerr << "raytracer: no Vulkan device: " << e.what() << "\n";
     return rt::kExitNoDevice;

@@ -4,17 +4,22 @@
 
 #include "gpu/frame_upload.h"
 #include "gpu/gpu_renderer.h"
+#include "gpu/swapchain_upload.h"
 #include "render/cpu_renderers.h"
 
 namespace rt {
 
 std::unique_ptr<Renderer> makeRenderer(RendererKind kind, const ParallelSettings& settings,
                                        const PresentSetup& present) {
-  if (!definitionOf(kind).kernel) return std::make_unique<gpu::GPURenderer>(present.device, present.mode);
+  if (!definitionOf(kind).kernel) {
+    return std::make_unique<gpu::GPURenderer>(present.device, present.mode, present.swapchain);
+  }
   std::unique_ptr<FrameSink> sink;
   if (present.mode == PresentMode::upload) {
     if (!present.device) throw std::invalid_argument("present mode 'upload' needs a Vulkan device");
     sink = std::make_unique<gpu::FrameUpload>(present.device);
+  } else if (present.mode == PresentMode::window) {
+    sink = std::make_unique<gpu::SwapchainUpload>(present.swapchain);
   }
   return makeCpuRenderer(kind, settings, std::move(sink));
 }

@@ -35,8 +35,13 @@ struct RunConfig {
   std::string device;                  // --device INDEX|NAME-SUBSTRING; empty: the default choice
   bool listDevices = false;            // --list-devices: print them and exit
   bool vkValidation = false;           // --vk-validation: validation layer on, messages fail the run
+  // The live window (issue 13): --window is --present window.
+  schema::SwapchainPresentMode swapchainPresentMode = schema::SwapchainPresentMode::fifo;  // --present-mode
 
   [[nodiscard]] long long totalFrames() const { return static_cast<long long>(warmupFrames) + measuredFrames; }
+  [[nodiscard]] bool windowed() const { return present == PresentMode::window; }
+  // --window --frames 0: frames go on until the window is closed.
+  [[nodiscard]] bool untilClosed() const { return windowed() && measuredFrames == 0; }
 };
 
 // Where the metadata sidecar goes: --meta, else beside the CSV as NAME.meta.json.

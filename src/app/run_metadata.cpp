@@ -116,6 +116,18 @@ nlohmann::json deviceJson(const RunIdentity& id) {
           {"validation", id.validation}};
 }
 
+nlohmann::json windowJson(const RunIdentity& id) {
+  if (!id.swapchain) return nullptr;
+  const gpu::SwapchainInfo& w = *id.swapchain;
+  return {{"present_mode", nameOf(w.requested)},
+          {"present_mode_granted", nameOf(w.granted)},
+          {"surface_format", w.surfaceFormat},
+          {"swapchain_images", w.imageCount},
+          {"swapchain_recreations", w.recreations},
+          {"frames_presented", w.framesPresented},
+          {"closed", id.windowClosed}};
+}
+
 nlohmann::json outputsJson(const RunConfig& config) {
   nlohmann::json frames = nlohmann::json::array();
   for (const auto& s : config.saveFrames) frames.push_back({{"frame", s.frame}, {"file", s.file.string()}});
@@ -173,6 +185,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::outputs: value = outputsJson(config); break;
       case RunMetadataKey::accel_structure: value = accelStructureJson(identity.renderer); break;
       case RunMetadataKey::device: value = deviceJson(identity); break;
+      case RunMetadataKey::window: value = windowJson(identity); break;
     }
   }
   return meta;

@@ -24,6 +24,11 @@ struct ContextOptions {
   // debug messenger that prints and counts every warning and error.
   bool validation = false;
   std::string loaderLibrary = RT_VULKAN_LOADER;
+  // A window's presentation (--window): the instance extensions its surface
+  // needs (from GLFW) are enabled, and the device gets VK_KHR_swapchain.
+  // Empty for windowless runs, whose instance has no surface extension.
+  std::vector<std::string> surfaceExtensions{};
+  [[nodiscard]] bool presents() const { return !surfaceExtensions.empty(); }
 };
 
 struct ValidationCounts {
@@ -48,7 +53,7 @@ class ValidationCounter {
 
 class Device;
 
-// One open device: instance (no surface extensions), the chosen physical
+// One open device: instance (surface extensions only for a window), the chosen physical
 // device, a logical device with one compute-capable queue. Shared by the
 // renderer and whoever reports on it, so it outlives every resource made
 // from it whatever the destruction order of its owners.

@@ -62,8 +62,16 @@ struct InstanceRequest {
   bool validationFeatures = false;  // VK_EXT_validation_features: synchronization validation
 };
 
-InstanceRequest instanceRequest(const vk::raii::Context& context, bool validation) {
+InstanceRequest instanceRequest(const vk::raii::Context& context, const ContextOptions& options) {
+  const bool validation = options.validation;
   InstanceRequest request;
+  const auto available = context.enumerateInstanceExtensionProperties();
+  for (const std::string& name : options.surfaceExtensions) {
+    if (!hasExtension(available, name)) {
+      throw DeviceUnavailable("the Vulkan loader has no " + name + ", which the window's surface needs");
+    }
+    request.extensions.push_back(name.c_str());  // options outlive the instance's creation
+  }
   // Portability drivers (MoltenVK) are listed only when asked for.
   if (hasExtension(context.enumerateInstanceExtensionProperties(), VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME)) {
     request.extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
@@ -82,8 +90,10 @@ InstanceRequest instanceRequest(const vk::raii::Context& context, bool validatio
   return request;
 }
 
-vk::raii::Instance createInstance(const vk::raii::Context& context, bool validation, ValidationCounter& counter) {
-  const InstanceRequest request = instanceRequest(context, validation);
+vk::raii::Instance createInstance(const vk::raii::Context& context, const ContextOptions& options,
+                                  ValidationCounter& counter) {
+  const bool validation = options.validation;
+  const InstanceRequest request = instanceRequest(context, options);
   const vk::ApplicationInfo app{.pApplicationName = "raytracer", .apiVersion = kApiVersion};
   vk::InstanceCreateInfo info{.flags = request.flags,
                               .pApplicationInfo = &app,
@@ -159,13 +169,21 @@ PhysicalDeviceChoice describe(vk::raii::PhysicalDevice physical, std::uint32_t i
   return {std::move(physical), std::move(info), family.value_or(0)};
 }
 
-vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, std::uint32_t queueFamily) {
+vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, std::uint32_t queueFamily,
+                                     const DeviceInfo& described, bool swapchain) {
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queue{.queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
   std::vector<const char*> extensions;
   // A portability implementation (MoltenVK) must have its subset enabled.
   if (hasExtension(physical.enumerateDeviceExtensionProperties(), "VK_KHR_portability_subset")) {
     extensions.push_back("VK_KHR_portability_subset");
+  }
+  if (swapchain) {
+    if (!hasExtension(physical.enumerateDeviceExtensionProperties(), VK_KHR_SWAPCHAIN_EXTENSION_NAME)) {
+      throw DeviceUnavailable("device " + std::to_string(described.index) + " (" + described.name + ") has no " +
+                              VK_KHR_SWAPCHAIN_EXTENSION_NAME + ": it cannot present to a window");
+    }
+    extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   }
   const vk::DeviceCreateInfo info{.queueCreateInfoCount = 1,
                                   .pQueueCreateInfos = &queue,
@@ -209,7 +227,7 @@ Instance::Instance(const ContextOptions& options)
     : validation_(options.validation),
       loader_(options.loaderLibrary),
       context_(loader_.getInstanceProcAddr()),
-      instance_(createInstance(context_, options.validation, *counter_)) {
+      instance_(createInstance(context_, options, *counter_)) {
   if (validation_) messenger_ = vk::raii::DebugUtilsMessengerEXT(instance_, messengerCreateInfo(*counter_));
 }
 
@@ -237,7 +255,7 @@ Device::Device(const ContextOptions& options) : instance_(options) {
   physical_ = std::move(chosen.physical);
   queueFamily_ = chosen.queueFamily;
   memory_ = physical_.getMemoryProperties();
-  device_ = createLogicalDevice(physical_, queueFamily_);
+  device_ = createLogicalDevice(physical_, queueFamily_, info_, options.presents());
   queue_ = vk::raii::Queue(device_, queueFamily_, 0);
 }
 

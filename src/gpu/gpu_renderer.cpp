@@ -12,6 +12,7 @@
 #include "gpu/gpu_layout.h"
 #include "gpu/present_image.h"
 #include "gpu/raytrace_pipeline.h"
+#include "gpu/swapchain.h"
 #include "gpu/timestamps.h"
 #include "render/accel/bvh.h"
 
@@ -133,14 +134,22 @@ struct GPURenderer::SceneObjects {
   }
 };
 
-GPURenderer::GPURenderer(std::shared_ptr<Context> device, PresentMode present)
-    : context_(std::move(device)), presentMode_(present) {
+GPURenderer::GPURenderer(std::shared_ptr<Context> device, PresentMode present, std::shared_ptr<Swapchain> window)
+    : context_(std::move(device)), presentMode_(present), window_(std::move(window)) {
   if (!context_) throw std::invalid_argument("the GPU renderer needs a Vulkan device");
+  if (presentMode_ == PresentMode::window && !window_) throw std::invalid_argument("present mode 'window' needs a swapchain");
   device_ = translateVulkanErrors("GPU renderer set-up",
                                        [&] { return std::make_unique<DeviceObjects>(context_->device()); });
 }
 
-GPURenderer::~GPURenderer() = default;
+GPURenderer::~GPURenderer() {
+  if (!window_) return;  // every other phase waited for its own work
+  try {
+    context_->device().logical().waitIdle();
+  } catch (const vk::SystemError&) {
+    // A lost device runs nothing that could still read the image.
+  }
+}
 
 RendererInfo GPURenderer::info() const {
   RendererInfo info;
@@ -153,6 +162,7 @@ RendererInfo GPURenderer::info() const {
 
 void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
   if (scene.spheres.empty()) throw std::invalid_argument("the GPU renderer needs at least one sphere");
+  if (window_) translateVulkanErrors("GPU renderer prepare", [&] { context_->device().logical().waitIdle(); });
   scene_.reset();  // the old objects go before new ones take their memory
   gpuMs_.reset();
   scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
@@ -193,6 +203,14 @@ void GPURenderer::render(const CameraFrame& camera) {
 
 void GPURenderer::present() {
   SceneObjects& s = prepared();
+  if (window_) {
+    translateVulkanErrors("present", [&] {
+      // Not waited for: the next frame's dispatch waits for this blit's reads in its barrier.
+      window_->present(s.output.handle(), s.extent,
+                       [&](const vk::raii::CommandBuffer& cb, std::uint32_t) { s.recordOutputReadable(cb); });
+    });
+    return;
+  }
   if (!s.presentImage) return;  // mode none: the frame stays in the storage image
   translateVulkanErrors("present", [&] {
     device_->runner.run("present", [&](const vk::raii::CommandBuffer& cb) {

@@ -7,6 +7,7 @@
 namespace rt::gpu {
 
 class Context;
+class Swapchain;
 
 // The thesis' GPURenderer: a Vulkan compute shader, one invocation per
 // pixel, on any Vulkan 1.2 device (a GPU, or lavapipe on the CPU).
@@ -18,9 +19,11 @@ class GPURenderer final : public Renderer {
  public:
   // `device` is required; `present` picks the Present path: `upload`
   // copies each frame into the present image, `none` leaves it in the
-  // storage image. Throws std::invalid_argument without a device.
-  GPURenderer(std::shared_ptr<Context> device, PresentMode present);
-  ~GPURenderer() override;
+  // storage image, `window` blits it into an image of `window`'s swapchain
+  // and presents that. Throws std::invalid_argument without a device, or
+  // for `window` without a swapchain.
+  GPURenderer(std::shared_ptr<Context> device, PresentMode present, std::shared_ptr<Swapchain> window = nullptr);
+  ~GPURenderer() override;  // with a window: waits for the frames in flight, which read the storage image
 
   [[nodiscard]] RendererInfo info() const override;
   // Builds the pipeline variant (algorithm, bounce exit and --accel are
@@ -40,6 +43,7 @@ class GPURenderer final : public Renderer {
 
   std::shared_ptr<Context> context_;  // declared first, so destroyed last
   PresentMode presentMode_;
+  std::shared_ptr<Swapchain> window_;  // mode window only
   std::unique_ptr<DeviceObjects> device_;
   std::unique_ptr<SceneObjects> scene_;
   std::optional<double> gpuMs_;

@@ -62,7 +62,7 @@ def test_csv_cut_at_a_row_boundary_disagrees_with_its_metadata(run_copy):
         (lambda t: "", "empty file"),
         (lambda t: t.splitlines(keepends=True)[0], "header only"),
         (lambda t: t.replace(",2917.53,", ",inf,"), "not a valid float"),
-        (lambda t: t.replace(",0.5,\n", ",0.5,1.0\n", 1), "gpu_ms is empty in 3 of 4 frames"),
+        (lambda t: t.replace(",0.5,,\n", ",0.5,1.0,\n", 1), "gpu_ms is empty in 3 of 4 frames"),
     ],
 )
 def test_corrupted_csv_names_the_file(run_copy, edit, message):
