@@ -75,8 +75,12 @@
                 pkgs.libhwy
                 pkgs.vulkan-headers
                 pkgs.vulkan-loader
+                pkgs.glfw # the live window (--window, RT_WINDOW=ON)
                 python
               ] ++ lib.optionals tests [ pkgs.gtest ];
+              # The window tests (tests/window) run under their own Xvfb and
+              # read the X display with xwininfo, xwd and ImageMagick.
+              nativeCheckInputs = [ pkgs.xorg.xorgserver pkgs.xorg.xwininfo pkgs.xorg.xwd pkgs.imagemagick ];
 
               # The preset itself (generator, build type, flags, build/<preset>),
               # plus the install prefix, nixpkgs' Tracy client sources (used
@@ -86,7 +90,7 @@
               configurePhase = ''
                 runHook preConfigure
                 cmake --preset ${preset} -DCMAKE_INSTALL_PREFIX=$out \
-                  -DRT_BUILD_TESTS=${if tests then "ON" else "OFF"} -DRT_TRACY_CLIENT_DIR=${tracyClientDir} \
+                  -DRT_BUILD_TESTS=${if tests then "ON" else "OFF"} -DRT_TRACY_CLIENT_DIR=${tracyClientDir} -DRT_WINDOW=ON \
                   -DRT_VULKAN_LOADER=${pkgs.vulkan-loader}/lib/libvulkan.so.1
                 cd build/${preset}
                 runHook postConfigure
@@ -100,6 +104,8 @@
                 runHook preCheck
                 export HOME=$TMPDIR
                 ctest --output-on-failure -j $NIX_BUILD_CORES
+                # libX11 and libXtst for the window tests' resize and key press (ctypes).
+                LD_LIBRARY_PATH=${pkgs.xorg.libX11}/lib:${pkgs.xorg.libXtst}/lib \
                 RT_BINARY=$PWD/raytracer RT_PYTHON=${python}/bin/python3 \
                   ${python}/bin/python3 -m pytest -p no:cacheprovider ../../tests
                 runHook postCheck

@@ -172,6 +172,7 @@ def test_apps_run_the_package_on_lavapipe_and_record_nix(nix, flake):
 def test_package_builds_the_profile_preset_with_nixpkgs_tracy_and_tests_on_lavapipe(nix, flake):
     packages = evaluate(nix, flake, "packages",
                         "builtins.mapAttrs (s: p: { inherit (p.default) doCheck configurePhase checkPhase postFixup"
+                        " buildInputs nativeCheckInputs"
                         " VK_DRIVER_FILES VK_ICD_FILENAMES VK_LOADER_LAYERS_DISABLE VK_ADD_LAYER_PATH;"
                         " commit = p.default.RT_GIT_COMMIT or null; })")
     for system, arch in SYSTEMS.items():
@@ -181,6 +182,9 @@ def test_package_builds_the_profile_preset_with_nixpkgs_tracy_and_tests_on_lavap
         assert "-DRT_TRACY_CLIENT_DIR=/nix/store/" in package["configurePhase"]
         assert package["configurePhase"].split("-DRT_TRACY_CLIENT_DIR=")[1].split()[0].endswith("-source/public")
         assert "ctest" in package["checkPhase"] and "pytest" in package["checkPhase"]
+        assert "-DRT_WINDOW=ON" in package["configurePhase"], "the package has the live window"
+        assert any(str(p).endswith("-glfw") for p in package["buildInputs"])
+        assert any(str(p).endswith("-xorgserver") for p in package["nativeCheckInputs"]), "Xvfb for tests/window"
         assert_lavapipe(package, arch)
         assert package["VK_ADD_LAYER_PATH"].endswith("-vulkan-validation-layers/share/vulkan/explicit_layer.d")
         # The overridden input makes the lock differ from flake.lock, so Nix treats the tree as dirty:

@@ -44,8 +44,13 @@ lib.genAttrs [
   "mesa"
   "clang-tools"
   "git"
+  "glfw"
+  "imagemagick"
 ] package // {
   inherit gcc14Stdenv;
+
+  # X.Org packages are a set of their own (Xvfb is in xorgserver).
+  xorg = lib.genAttrs [ "xorgserver" "xwininfo" "xwd" "libX11" "libXtst" ] package;
 
   # Tracy's sources are an attribute of the package (fetchFromGitHub).
   tracy = package "tracy-0.11.1" // { src = package "source"; };
