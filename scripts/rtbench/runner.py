@@ -52,10 +52,6 @@ class Interrupted(KeyboardInterrupt):
         super().__init__(signal.Signals(signum).name)
         self.signum = signum
 
-    @property
-    def exit_status(self) -> int:
-        return 128 + self.signum
-
 
 class BuildError(RuntimeError):
     """The binary could not be built; carries the build's output tail."""
