@@ -9,15 +9,16 @@
 #   build_step release -j2 --target raytracer
 #
 # STEP_PREFIX (default: the calling script's name) starts every line. The
-# logs live in one temporary directory, removed when the script exits 0 and
-# kept (its path printed) otherwise.
+# logs live in one temporary directory, removed at exit unless a step failed
+# (then its path is printed).
 
 STEP_PREFIX="${STEP_PREFIX:-$(basename "$0")}"
 STEP_LOGS="$(mktemp -d "${TMPDIR:-/tmp}/rt-steps.XXXXXX")"
+STEP_FAILED=""
 
 step_cleanup() {
   local status=$?
-  if [ "$status" -eq 0 ]; then
+  if [ -z "$STEP_FAILED" ]; then
     rm -rf "$STEP_LOGS"
   else
     echo "$STEP_PREFIX: logs kept in $STEP_LOGS" >&2
@@ -46,6 +47,7 @@ step_log() {
 # On failure: the whole log, then which step failed with which status.
 step_failed() {
   local label=$1 status=$2 log=$3
+  STEP_FAILED=1
   echo "$STEP_PREFIX: ---- output of '$label' ----" >&2
   cat "$log" >&2
   echo "$STEP_PREFIX: ---- end of output ----" >&2

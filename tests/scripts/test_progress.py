@@ -68,6 +68,8 @@ def test_a_step_prints_one_line_and_its_whole_output_only_when_it_fails(repo_roo
     fine = run_steps(repo_root, 'step "doing fine" sh -c "echo hidden detail"')
     assert fine.returncode == 0 and fine.stdout == ""
     assert fine.stderr == "try: doing fine\n"
+    after = run_steps(repo_root, 'step "doing fine" true\nexit 4')  # a later failure that is no step's
+    assert after.returncode == 4 and after.stderr == "try: doing fine\n", "no log kept, none named"
 
     failing = run_steps(repo_root, 'step "doing badly" sh -c "for i in 1 2 3; do echo line \\$i; done; exit 3"\n'
                                    'echo not reached')
