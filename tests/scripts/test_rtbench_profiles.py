@@ -239,11 +239,11 @@ def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow
     assert {_spheres(c) for c in configs} == {10, 100, 1000, 10000, 100000}
     assert {c.variant.label for c in configs} == {"optimized"} and {(c.width, c.height) for c in configs} == {(800, 600)}
     for renderer in profile.renderers:
-        for accel in names.ACCELS:
+        for accel in [names.OWN_ACCEL[renderer]] if renderer in names.OWN_ACCEL else names.ACCELS:
             counts = {_spheres(c) for c in configs if c.renderer == renderer and c.accel == accel}
             assert len(counts) >= 3, (renderer, accel)
-            if not names.accepts(renderer, "lanes") and names.renders_on_cpu(renderer):
+            if not names.accepts(renderer, "lanes") and names.renders_on_cpu(renderer) and renderer not in names.OWN_ACCEL:
                 assert max(counts) <= 1000, f"scalar {renderer} stays at small N"
     largest = [(c.renderer, c.accel) for c in configs if _spheres(c) == 100000]
-    assert sorted(largest) == [("gpu", "bvh"), ("simd_tbb", "bvh")]
+    assert sorted(largest) == [("embree", "bvh"), ("gpu", "bvh"), ("simd_tbb", "bvh")]
     assert all(c.scene_path.startswith(str(profiles.GENERATED_SCENES)) for c in configs if _spheres(c) in (10, 100000))
