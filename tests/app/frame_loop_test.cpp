@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
+#include <vector>
 
 #include "render/render_test_support.h"
 #include "render/cpu_renderers.h"
@@ -34,6 +36,47 @@ TEST(FrameLoop, RecordsEveryFrameWithWarmupFlags) {
     EXPECT_GE(r.records[k].presentMs, 0.0);
     EXPECT_FALSE(r.records[k].gpuMs);
   }
+}
+
+// The loop's side of a window: open for `openFrames` frames, then closed;
+// reports a fixed acquire wait. What the window itself does is tested
+// end to end under Xvfb (tests/window).
+class ClosingView final : public LiveView {
+ public:
+  explicit ClosingView(int openFrames) : openFrames_(openFrames) {}
+  bool keepRunning() override { return asked_++ < openFrames_; }
+  [[nodiscard]] std::optional<double> lastAcquireMs() const override { return 0.25; }
+  void frameDone(const FrameRecord& record) override { shown_.push_back(record.frame); }
+  [[nodiscard]] const std::vector<long long>& shown() const { return shown_; }
+
+ private:
+  int openFrames_;
+  int asked_ = 0;
+  std::vector<long long> shown_;
+};
+
+TEST(FrameLoop, RunsUntilTheViewClosesWithFramesZero) {
+  RunConfig config = smallRun();
+  config.present = PresentMode::window;
+  config.measuredFrames = 0;  // until closed
+  const Scene scene = loadScene(config.scenePath);
+  SequentialRenderer renderer;
+  ClosingView view(7);
+  const FrameLoopResult r = runFrameLoop(renderer, scene, config, &view);
+  EXPECT_FALSE(r.failure);
+  ASSERT_EQ(r.records.size(), 7u) << "every frame before the close is recorded, past warmup + 0";
+  EXPECT_EQ(view.shown(), (std::vector<long long>{0, 1, 2, 3, 4, 5, 6}));
+  for (const FrameRecord& record : r.records) EXPECT_EQ(record.acquireMs, 0.25);
+}
+
+TEST(FrameLoop, ClosingTheViewEndsAFixedRunEarly) {
+  const Scene scene = loadScene(smallRun().scenePath);
+  SequentialRenderer renderer;
+  ClosingView view(2);
+  const FrameLoopResult r = runFrameLoop(renderer, scene, smallRun(), &view);
+  EXPECT_EQ(r.records.size(), 2u);
+  ClosingView stays(100);
+  EXPECT_EQ(runFrameLoop(renderer, scene, smallRun(), &stays).records.size(), 5u) << "no more than asked for";
 }
 
 TEST(FrameLoop, SavedFrameIsThatAnimationFrame) {
