@@ -134,6 +134,10 @@ function(rt_generate_schema_header json_path header_path)
   string(JSON n_lane_widths LENGTH "${json}" lane_widths)
   string(REGEX REPLACE "[][ ]" "" lane_widths "${lane_widths}")
 
+  # The scene loader's number limits; any JSON number text is a C++ literal.
+  string(JSON scene_max_magnitude GET "${json}" scene_limits max_magnitude)
+  string(JSON scene_min_length GET "${json}" scene_limits min_length)
+
   # Stage -> algorithm and early-exit set, in stage order.
   string(JSON count LENGTH "${json}" stages)
   math(EXPR last "${count} - 1")
@@ -166,6 +170,9 @@ struct RendererDefinition {\n  std::string_view flag;\n  std::optional<Kernel> k
 inline constexpr std::array<RendererDefinition, ${n_renderers}> kRendererDefinitions{{\n${renderer_defs}}};\n\n\
 struct StageDefinition {\n  Algorithm algorithm;\n  unsigned earlyExitMask;\n};\n\
 inline constexpr std::array<StageDefinition, ${n_stages}> kStageDefinitions{{\n${stage_defs}}};\n\n\
+// Numbers a scene may hold (scene_limits; docs/render-model.md section 1).\n\
+inline constexpr double kSceneMaxMagnitude = ${scene_max_magnitude};\n\
+inline constexpr double kSceneMinLength = ${scene_min_length};\n\n\
 }  // namespace rt::schema\n")
   file(CONFIGURE OUTPUT "${header_path}" CONTENT "${content}")
 endfunction()

@@ -216,7 +216,8 @@ vec3 localColor(Hit hit, vec3 direction, vec3 sphereColor) {
   vec3 diffuse = max(dot(n, l), 0.0) * pc.lightColor * sphereColor;
   vec3 rr = -l - 2.0 * dot(-l, n) * n;  // reflect(-l, n)
   // GLSL leaves pow(0, 0) undefined (NaN on some GPUs); C++ gives 1.
-  float highlight = pc.shininess == 0.0 ? 1.0 : pow(max(dot(rr, -direction), 0.0), pc.shininess);
+  // Clamped to [0, 1] as in the scalar model (render model section 4).
+  float highlight = pc.shininess == 0.0 ? 1.0 : pow(clamp(dot(rr, -direction), 0.0, 1.0), pc.shininess);
   return ambient + diffuse + pc.specularStrength * highlight * pc.lightColor;
 }
 

@@ -34,7 +34,7 @@ import random
 import re
 from pathlib import Path
 
-from rtbench import atomic
+from rtbench import atomic, schema
 
 # Every number is written with this many decimals, so the files are stable
 # across Python versions and platforms.
@@ -103,8 +103,12 @@ def _layout(count: int) -> tuple[float, float, float]:
 
 def random_scene(count: int, seed: int) -> dict:
     """`count` spheres scattered in a disc the orbiting camera never enters."""
-    rng = random.Random(seed)
     spread, half_height, orbit_radius = _layout(count)
+    max_magnitude, _ = schema.scene_limits()
+    if max(spread, orbit_radius) > max_magnitude:
+        raise ValueError(f"random{count}: the cluster would reach {orbit_radius:.3g}, beyond the scene limit "
+                         f"{max_magnitude:g} (scene_limits in schema/rt_schema.json)")
+    rng = random.Random(seed)
     spheres = []
     for _ in range(count):
         radius = rng.uniform(0.25, 1.0)
@@ -168,11 +172,14 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     unknown = [name for name in args.names if recipe(name) is None]
     if unknown:
         parser.error(f"unknown scene {unknown[0]!r}; scenes: default, randomN (N >= 1)")
-    jobs = [(name, recipe(name)()) for name in args.names]
-    if args.random is not None:
-        if args.random < 1:
-            parser.error("--random needs at least 1 sphere")
-        jobs.append((f"random{args.random}-seed{args.seed}", random_scene(args.random, args.seed)))
+    try:
+        jobs = [(name, recipe(name)()) for name in args.names]
+        if args.random is not None:
+            if args.random < 1:
+                parser.error("--random needs at least 1 sphere")
+            jobs.append((f"random{args.random}-seed{args.seed}", random_scene(args.random, args.seed)))
+    except ValueError as e:
+        parser.error(str(e))
     if not jobs:
         parser.error("name at least one scene or give --random N")
     if not args.output_dir.is_dir():

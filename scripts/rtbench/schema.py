@@ -66,3 +66,10 @@ def stages() -> dict[str, dict]:
 
 def present_modes() -> list[str]:
     return _names("present_modes")
+
+
+def scene_limits() -> tuple[float, float]:
+    """(max_magnitude, min_length): the numbers a scene may hold (docs/render-model.md
+    section 1, Limits); the C++ loader's constants come from the same entry."""
+    limits = schema()["scene_limits"]
+    return float(limits["max_magnitude"]), float(limits["min_length"])

@@ -1,11 +1,17 @@
 #include "scene/scene_loader.h"
 
+#include <array>
+#include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <glm/geometric.hpp>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <system_error>
+
+#include "rt_schema.h"
 
 namespace rt {
 namespace {
@@ -17,6 +23,25 @@ using Json = nlohmann::json;
 constexpr double kMaxVerticalAlignment = 0.9999;
 
 std::string describeType(const Json& value) { return value.type_name(); }
+
+// The shortest text that reads back as `value` ("1e+39", "-1000001"), so a
+// message never rounds a rejected number onto the limit.
+std::string formatNumber(double value) {
+  std::array<char, 32> text{};
+  const auto end = std::to_chars(text.data(), text.data() + text.size(), value).ptr;
+  return {text.data(), end};
+}
+
+// The renderers work in float: beyond schema::kSceneMaxMagnitude squares and
+// sums of scene numbers lose the scene (1e39 is already infinite), below
+// kSceneMinLength a length vanishes next to the coordinates
+// (docs/render-model.md section 1).
+std::string magnitudeRange() {
+  return "[" + formatNumber(-schema::kSceneMaxMagnitude) + ", " + formatNumber(schema::kSceneMaxMagnitude) + "]";
+}
+std::string lengthRange() {
+  return "[" + formatNumber(schema::kSceneMinLength) + ", " + formatNumber(schema::kSceneMaxMagnitude) + "]";
+}
 
 // Reads one JSON object, tracking the JSON path for error messages and
 // rejecting keys that nobody read (a typo must not be ignored silently).
@@ -69,10 +94,25 @@ class ObjectReader {
 
   glm::dvec3 vector(std::string_view key) { return vector(require(key), pathOf(key)); }
 
-  std::optional<glm::dvec3> optionalVector(std::string_view key) {
+  // A number whose magnitude is at most kSceneMaxMagnitude.
+  double bounded(double value, const std::string& path) const {
+    if (std::abs(value) > schema::kSceneMaxMagnitude) fail(path, formatNumber(value) + " is outside " + magnitudeRange());
+    return value;
+  }
+
+  // A position or direction: every component bounded.
+  glm::dvec3 boundedVector(const Json& v, const std::string& path) const {
+    const glm::dvec3 u = vector(v, path);
+    for (int i = 0; i < 3; ++i) bounded(u[i], path + "[" + std::to_string(i) + "]");
+    return u;
+  }
+
+  glm::dvec3 boundedVector(std::string_view key) { return boundedVector(require(key), pathOf(key)); }
+
+  std::optional<glm::dvec3> optionalBoundedVector(std::string_view key) {
     const Json* v = find(key);
     if (v == nullptr) return std::nullopt;
-    return vector(*v, pathOf(key));
+    return boundedVector(*v, pathOf(key));
   }
 
   glm::vec3 color(const Json& v, const std::string& path) const {
@@ -102,20 +142,25 @@ class ObjectReader {
   std::vector<std::string> known_;
 };
 
+// A direction normalised; one shorter than kSceneMinLength has no reliable
+// direction (its squares underflow), so it is refused like a zero one.
 glm::dvec3 unitOrFail(const ObjectReader& r, glm::dvec3 v, const std::string& path) {
   const double length = glm::length(v);
-  if (!(length > 0.0) || !std::isfinite(length)) r.fail(path, "zero-length direction");
+  if (length == 0.0) r.fail(path, "zero-length direction");
+  if (!(length >= schema::kSceneMinLength)) {
+    r.fail(path, "direction of length " + formatNumber(length) + " is shorter than " + formatNumber(schema::kSceneMinLength));
+  }
   return v / length;
 }
 
 CameraSpec readCamera(ObjectReader r) {
   CameraSpec c;
-  c.position = r.vector("position");
-  const auto forward = r.optionalVector("forward");
+  c.position = r.boundedVector("position");
+  const auto forward = r.optionalBoundedVector("forward");
   c.fov = r.number("fov");
   if (!(c.fov > 0.0 && c.fov < 180.0)) r.fail(r.pathOf("fov"), "fov must lie in (0, 180) degrees");
-  c.focusPoint = r.optionalVector("focusPoint");
-  c.orbitVelocity = r.optionalNumber("orbitVelocity").value_or(0.0);
+  c.focusPoint = r.optionalBoundedVector("focusPoint");
+  c.orbitVelocity = r.bounded(r.optionalNumber("orbitVelocity").value_or(0.0), r.pathOf("orbitVelocity"));
   r.rejectUnknownKeys();
 
   if (forward) c.forward = unitOrFail(r, *forward, r.pathOf("forward"));
@@ -125,6 +170,11 @@ CameraSpec readCamera(ObjectReader r) {
   }
   if (c.focusPoint && *c.focusPoint == c.position) {
     r.fail(r.pathOf("focusPoint"), "focusPoint equals position");
+  }
+  // Nearer than this, the orbit's rotated position can round onto the focus
+  // point and the view direction would be 0 / 0.
+  if (c.focusPoint && !(glm::length(*c.focusPoint - c.position) >= schema::kSceneMinLength)) {
+    r.fail(r.pathOf("focusPoint"), "focusPoint is closer to position than " + formatNumber(schema::kSceneMinLength));
   }
   if (!forward) c.forward = glm::normalize(*c.focusPoint - c.position);
 
@@ -141,7 +191,7 @@ CameraSpec readCamera(ObjectReader r) {
 LightData readLight(ObjectReader r) {
   LightData l;
   l.directionalLightDirection =
-      glm::vec3(unitOrFail(r, r.vector("directionalLightDirection"), r.pathOf("directionalLightDirection")));
+      glm::vec3(unitOrFail(r, r.boundedVector("directionalLightDirection"), r.pathOf("directionalLightDirection")));
   l.directionalLightColor = r.color("directionalLightColor");
   l.ambientLightColor = r.color("ambientLightColor");
   r.rejectUnknownKeys();
@@ -150,9 +200,12 @@ LightData readLight(ObjectReader r) {
 
 Sphere readSphere(ObjectReader r) {
   Sphere s;
-  s.position = glm::vec3(r.vector("position"));
+  s.position = glm::vec3(r.boundedVector("position"));
   const double radius = r.number("radius");
   if (!(radius > 0.0)) r.fail(r.pathOf("radius"), "radius must be > 0");
+  if (radius < schema::kSceneMinLength || radius > schema::kSceneMaxMagnitude) {
+    r.fail(r.pathOf("radius"), "radius " + formatNumber(radius) + " is outside " + lengthRange());
+  }
   s.radius = static_cast<float>(radius);
   s.color = r.color("color");
   r.rejectUnknownKeys();
@@ -292,12 +345,38 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName) {
   return scene;
 }
 
-Scene loadScene(const std::filesystem::path& path) {
+namespace {
+
+// Far above any scene we generate (random1000000 is about 100 MB); a file
+// beyond it is a mistake, not a scene, and is not read into memory.
+constexpr std::size_t kMaxSceneFileBytes = std::size_t{512} << 20;
+
+// A regular file or a pipe (`raytracer <(generator)`); a directory or a
+// device (/dev/zero would never end) is refused before reading.
+std::string readSceneText(const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec) throw SceneError(path.string(), "", "cannot open file: " + ec.message());
+  if (std::filesystem::is_directory(status)) throw SceneError(path.string(), "", "is a directory, not a scene file");
+  if (!std::filesystem::is_regular_file(status) && !std::filesystem::is_fifo(status)) {
+    throw SceneError(path.string(), "", "not a regular file or a pipe");
+  }
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path.string(), "", "cannot open file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseScene(text.str(), path.string());
+  if (!in) throw SceneError(path.string(), "", "cannot open file: " + std::generic_category().message(errno));
+  std::string text;
+  std::array<char, 1 << 16> chunk{};
+  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxSceneFileBytes) {
+      throw SceneError(path.string(), "", "larger than " + std::to_string(kMaxSceneFileBytes >> 20) + " MiB");
+    }
+  }
+  if (in.bad()) throw SceneError(path.string(), "", "read failed: " + std::generic_category().message(errno));
+  return text;
 }
+
+}  // namespace
+
+Scene loadScene(const std::filesystem::path& path) { return parseScene(readSceneText(path), path.string()); }
 
 }  // namespace rt

@@ -157,6 +157,63 @@ TEST(SceneLoader, RejectsNonPositiveRadius) {
   EXPECT_EQ(rejectionPath([](Json& j) { j["spheres"][0]["radius"] = -1; }), "spheres[0].radius");
 }
 
+// The message of a rejected scene, or "<accepted>".
+std::string rejectionMessage(const std::function<void(Json&)>& edit) {
+  Json j = validScene();
+  edit(j);
+  try {
+    parseScene(j.dump(), "scenes/test.json");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "<accepted>";
+}
+
+TEST(SceneLoader, RejectsMagnitudesAboveTheLimit) {
+  // 1e39 is finite as a double and infinite as the float the renderers use.
+  EXPECT_EQ(rejectionMessage([](Json& j) { j["spheres"][1]["radius"] = 1e39; }),
+            "scenes/test.json: spheres[1].radius: radius 1e+39 is outside [1e-06, 1e+06]");
+  EXPECT_EQ(rejectionMessage([](Json& j) { j["spheres"][0]["position"] = {0, -1000001, 0}; }),
+            "scenes/test.json: spheres[0].position[1]: -1000001 is outside [-1e+06, 1e+06]");
+  EXPECT_EQ(rejectionPath([](Json& j) { j["camera"]["position"] = {2e6, 1, -6}; }), "camera.position[0]");
+  EXPECT_EQ(rejectionPath([](Json& j) { j["camera"]["forward"] = {0, 0, 1e7}; }), "camera.forward[2]");
+  EXPECT_EQ(rejectionPath([](Json& j) { j["camera"]["focusPoint"] = {0, 0, -1e300}; }), "camera.focusPoint[2]");
+  EXPECT_EQ(rejectionPath([](Json& j) { j["lightData"]["directionalLightDirection"] = {-1e30, -1, 1}; }),
+            "lightData.directionalLightDirection[0]");
+  EXPECT_EQ(rejectionPath([](Json& j) { j["camera"]["orbitVelocity"] = -1e300; }), "camera.orbitVelocity");
+}
+
+TEST(SceneLoader, RejectsLengthsBelowTheLimit) {
+  EXPECT_EQ(rejectionPath([](Json& j) { j["spheres"][1]["radius"] = 9e-7; }), "spheres[1].radius");
+  EXPECT_EQ(rejectionPath([](Json& j) { j["spheres"][1]["radius"] = 1e-320; }), "spheres[1].radius");
+  // A direction this short has no reliable direction; one of 1e-200 squares to 0.
+  EXPECT_EQ(rejectionPath([](Json& j) { j["lightData"]["directionalLightDirection"] = {1e-200, -1e-200, 0}; }),
+            "lightData.directionalLightDirection");
+  EXPECT_EQ(rejectionPath([](Json& j) { j["camera"]["forward"] = {0, 0, 1e-7}; }), "camera.forward");
+  // An orbit about a focus point this near would round the camera onto it.
+  EXPECT_EQ(rejectionPath([](Json& j) {
+              j["camera"]["position"] = {1e6, 0, 0};
+              j["camera"]["focusPoint"] = {1e6, 0, 1e-9};
+            }),
+            "camera.focusPoint");
+}
+
+TEST(SceneLoader, AcceptsTheExtremesInsideTheLimits) {
+  Json j = validScene();
+  j["spheres"][0]["radius"] = 1e6;
+  j["spheres"][1]["radius"] = 1e-6;
+  j["spheres"][1]["position"] = {1e6, -1e6, 1e6};
+  j["camera"]["position"] = {-1e6, 0, -1e6};
+  j["camera"]["forward"] = {1e-6, 0, 0};
+  j["camera"]["focusPoint"] = {-1e6, 0, -1e6 + 2e-6};
+  j["camera"]["orbitVelocity"] = -1e6;
+  const Scene s = parse(j);
+  EXPECT_FLOAT_EQ(s.spheres[0].radius, 1e6f);
+  EXPECT_FLOAT_EQ(s.spheres[1].radius, 1e-6f);
+  EXPECT_FLOAT_EQ(s.spheres[1].position.y, -1e6f);
+  EXPECT_DOUBLE_EQ(s.camera.forward.x, 1.0);
+}
+
 TEST(SceneLoader, RejectsFovOutsideOpenInterval) {
   EXPECT_EQ(rejectionPath([](Json& j) { j["camera"]["fov"] = 0; }), "camera.fov");
   EXPECT_EQ(rejectionPath([](Json& j) { j["camera"]["fov"] = 180; }), "camera.fov");

@@ -85,3 +85,31 @@ def test_bad_arguments_are_rejected(repo_root, args):
     done = subprocess.run([sys.executable, repo_root / "scripts/gen_scene.py", *args], capture_output=True, text=True)
     assert done.returncode == 2
     assert "error" in done.stderr
+
+
+def test_a_scene_beyond_the_limits_is_refused_before_it_is_generated(repo_root):
+    from rtbench import scenes, schema
+
+    max_magnitude, _ = schema.scene_limits()
+    # The cluster grows as cbrt(N): 4.5e16 spheres would reach 1e6. Refused
+    # before a single sphere is drawn, so this costs nothing.
+    with pytest.raises(ValueError, match="beyond the scene limit"):
+        scenes.random_scene(10**17, seed=1)
+    spread, _, orbit = scenes._layout(10**7)  # ten million spheres stay far inside
+    assert max(spread, orbit) < max_magnitude / 100
+    done = subprocess.run([sys.executable, str(repo_root / "scripts/gen_scene.py"), "random100000000000000000",
+                           "-o", "/tmp"], capture_output=True, text=True)
+    assert done.returncode == 2 and "beyond the scene limit" in done.stderr
+
+
+def test_the_render_model_states_the_schema_limits(repo_root):
+    from rtbench import schema
+
+    def written(value: float) -> str:  # 1e6, 1e-6 as the document writes them
+        return f"{value:.0e}".replace("e+0", "e").replace("e-0", "e-")
+
+    max_magnitude, min_length = schema.scene_limits()
+    text = (repo_root / "docs/render-model.md").read_text()
+    limits = text[text.index("**Limits**"):text.index("**Rejection.**")]
+    assert f"[-{written(max_magnitude)}, {written(max_magnitude)}]" in limits
+    assert f"at least {written(min_length)}" in limits

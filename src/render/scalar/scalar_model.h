@@ -52,7 +52,9 @@ inline Vec3<Real> localColor(const ShadingInputs<Real>& in, const RaycastHit<Rea
   const Vec3<Real> ambient = in.ambientColor * sphereColor;
   const Vec3<Real> diffuse = std::max(glm::dot(n, l), Real(0)) * in.lightColor * sphereColor;
   const Vec3<Real> rr = -l - Real(2) * glm::dot(-l, n) * n;  // reflect(-l, n)
-  const Real highlight = std::pow(std::max(glm::dot(rr, -direction), Real(0)), in.shininess);
+  // Clamped to [0, 1] (section 4): a hit reached from far away rounds its
+  // position, the normal's length drifts above 1, and cos^shininess overflowed.
+  const Real highlight = std::pow(std::clamp(glm::dot(rr, -direction), Real(0), Real(1)), in.shininess);
   return ambient + diffuse + in.specularStrength * highlight * in.lightColor;
 }
 

@@ -167,7 +167,9 @@ HWY_NOINLINE Vec3x<D> LocalColor(D d, const FrameParams& f, const HitX<D>& hit, 
   const Vec3x<D> diffuse = (hn::Max(Dot(n, l), hn::Zero(d)) * lightColor) * hit.sphereColor;
   const Vec3x<D> rr = minusL - (hn::Set(d, 2.0f) * Dot(minusL, n)) * n;  // reflect(-l, n)
   const Vec3x<D> minusD = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - direction;
-  const VecF<D> highlight = Power(d, hn::Max(Dot(rr, minusD), hn::Zero(d)), f.shininess);
+  // Clamped to [0, 1] as in the scalar model (docs/render-model.md section 4).
+  const VecF<D> cosine = hn::Min(hn::Max(Dot(rr, minusD), hn::Zero(d)), hn::Set(d, 1.0f));
+  const VecF<D> highlight = Power(d, cosine, f.shininess);
   return ambient + diffuse + (hn::Set(d, f.specularStrength) * highlight) * lightColor;
 }
 
