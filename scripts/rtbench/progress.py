@@ -6,11 +6,17 @@ before pandas & co. are.
 Ninja writes one `[N/M] description` line per edge when its output is not a
 terminal; a first build is hundreds of them, a rebuild with nothing to do
 is `ninja: no work to do.` This keeps a line every 10 % (and the last), and
-counts compiler warnings, which stay in the log:
+the first line of each compiler warning (the rest stays in the log):
 
     building preset debug: 5/46 (10 %)
     ...
-    building preset debug: 46/46 (100 %) in 212 s, 2 compiler warnings (log: build/logs/...)
+    src/x.cpp:3:5: warning: unused variable 'x' [-Wunused-variable]
+    ...
+    building preset debug: ran 46 of 46 steps in 212 s, 1 compiler warning
+
+The closing line counts the steps that ran: ninja skips the rest of its
+plan when an early step leaves their inputs unchanged (restat), and a failed
+build stops early; whether it failed is the caller's to say.
 
 As a filter: `python3 -m rtbench.progress LABEL --log FILE` reads the
 build's output on stdin, writes all of it to FILE and the condensed lines to
@@ -45,6 +51,7 @@ class BuildProgress:
         """The progress line this output line is worth, or None."""
         if WARNING.search(line):
             self.warnings += 1
+            return line.rstrip("\n")
         if line.strip() == NINJA_NOTHING_TO_DO:
             self.up_to_date = True
             return None
@@ -58,20 +65,17 @@ class BuildProgress:
         self.next_percent = (percent // PERCENT_STEP + 1) * PERCENT_STEP
         return f"{self.label}: {self.done}/{self.total} ({percent} %)"
 
-    def summary(self, log: Path | None = None) -> str:
+    def summary(self) -> str:
         """The closing line, once the build has ended."""
         if self.up_to_date and not self.total:
             return f"{self.label}: up to date"
-        text = f"{self.label}: {self.done}/{self.total} ({100 * self.done // max(self.total, 1)} %) " \
-               f"in {self.clock() - self.started:.0f} s"
+        text = f"{self.label}: ran {self.done} of {self.total} steps in {self.clock() - self.started:.0f} s"
         if self.warnings:
             text += f", {self.warnings} compiler warning{'s' if self.warnings != 1 else ''}"
-            if log is not None:
-                text += f" (log: {log})"
         return text
 
 
-def filter_stream(lines, log, out, label: str, log_path: Path | None = None) -> BuildProgress:
+def filter_stream(lines, log, out, label: str) -> BuildProgress:
     """Copies every line to `log` and the progress lines to `out`."""
     progress = BuildProgress(label)
     for line in lines:
@@ -80,7 +84,7 @@ def filter_stream(lines, log, out, label: str, log_path: Path | None = None) -> 
         message = progress.feed(line)
         if message:
             print(message, file=out, flush=True)
-    print(progress.summary(log_path), file=out, flush=True)
+    print(progress.summary(), file=out, flush=True)
     return progress
 
 
@@ -92,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     with open(args.log, "w", encoding="utf-8", errors="replace") as log:
         stdin = open(sys.stdin.fileno(), encoding="utf-8", errors="replace", closefd=False)
-        filter_stream(stdin, log, sys.stderr, args.label, args.log)
+        filter_stream(stdin, log, sys.stderr, args.label)
     return 0
 
 
