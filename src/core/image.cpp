@@ -25,12 +25,16 @@ constexpr double kMinPsnrDb = 40.0;
 }  // namespace
 
 void writePng(const Image& image, const std::filesystem::path& path) {
+  // Encoded in memory, then written like every other output: stb's own file
+  // writer ignores fwrite's errors, so a full disk left a truncated PNG.
   const Extent e = image.extent();
-  AtomicFile file(path);
-  const int ok = stbi_write_png(file.temporaryPath().c_str(), e.width, e.height, 4,
-                                image.pixels().data(), e.width * 4);
-  if (ok == 0) throw std::runtime_error(path.string() + ": cannot write PNG");
-  file.commit();
+  std::string encoded;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+  };
+  const int ok = stbi_write_png_to_func(append, &encoded, e.width, e.height, 4, image.pixels().data(), e.width * 4);
+  if (ok == 0) throw std::runtime_error(path.string() + ": cannot encode PNG");
+  writeFileAtomically(path, encoded);
 }
 
 Image readPng(const std::filesystem::path& path) {

@@ -77,5 +77,35 @@ TEST_F(AtomicFileTest, UnwritableTargetThrowsNamingTheFileAndWritesNothing) {
   EXPECT_EQ(entries(), 0u);
 }
 
+// Root ignores permission bits; a directory that is a regular file stops
+// anyone. The error names the file and the system's reason.
+TEST_F(AtomicFileTest, ATargetBelowARegularFileNamesTheReason) {
+  writeFileAtomically(dir_ / "file", "x\n");
+  const fs::path target = dir_ / "file" / "run.csv";
+  try {
+    writeFileAtomically(target, "a,b\n");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(target.string() + ": cannot open for writing: Not a directory"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(entries(), 1u);
+}
+
+// The written file is linked only when complete (O_TMPFILE where the file
+// system has it): the directory never shows a temporary after a write.
+TEST_F(AtomicFileTest, ATargetThatIsADirectoryIsLeftAloneAndNamed) {
+  fs::create_directory(dir_ / "run.csv");
+  try {
+    writeFileAtomically(dir_ / "run.csv", "a,b\n");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("Is a directory"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_directory(dir_ / "run.csv"));
+  EXPECT_EQ(entries(), 1u);
+}
+
 }  // namespace
 }  // namespace rt
