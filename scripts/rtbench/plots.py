@@ -17,7 +17,7 @@ import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from rtbench import atomic, metrics, names, stats  # noqa: E402
+from rtbench import atomic, metrics, names, stats, tables  # noqa: E402
 
 FORMATS = ("png", "svg")
 # Stable SVG ids and no timestamps: the same data give byte-identical files.
@@ -56,10 +56,25 @@ def _ordered(values, order) -> list:
     return sorted(pd.unique(values), key=lambda v: (order(v), str(v)))
 
 
-def _renderer_label(row) -> str:
-    """Renderer plus the threads and lanes where it takes them, and the accel
-    where it is not brute force: 'simd_tbb t8 l16', 'simd_tbb t8 l16 bvh'."""
-    return " ".join([row[names.RENDERER], *_option_texts(row), *names.accel_tag(row)])
+def _renderer_label(row, with_size: bool = False) -> str:
+    """Renderer plus the threads and lanes where it takes them, the accel
+    where it is not brute force, and the image size where the figure holds
+    several: 'simd_tbb t8 l16', 'simd_tbb t8 l16 bvh', 'gpu 1920x1080'."""
+    size = [f"{row[names.WIDTH]}x{row[names.HEIGHT]}"] if with_size else []
+    return " ".join([row[names.RENDERER], *_option_texts(row), *names.accel_tag(row), *size])
+
+
+def _several_sizes(df: pd.DataFrame) -> bool:
+    """Whether the data hold more than one image size: then a label names it
+    (the gpu at 800x600 and at 1920x1080 are two configurations)."""
+    return len(df[[names.WIDTH, names.HEIGHT]].drop_duplicates()) > 1
+
+
+def _palette(count: int):
+    """Distinct colours for up to 20 lines or bars (tab10, else tab20); they
+    repeat only beyond that."""
+    cmap = plt.get_cmap("tab10" if count <= 10 else "tab20")
+    return lambda i: cmap(i % cmap.N)
 
 
 def _option_texts(row) -> list[str]:
@@ -69,38 +84,64 @@ def _option_texts(row) -> list[str]:
 
 def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
     """Median render_ms per renderer x scene, one panel per stage, log scale,
-    with the bootstrap CI of the median as error bars."""
+    with the bootstrap CI of the median as error bars. One bar per renderer,
+    accel and size: its configuration with the most threads x lanes, as in
+    tables 1-4 (the other thread counts and lane widths are in the scaling
+    and Karp-Flatt figures)."""
     if summary.empty:
         return []
-    df = summary.assign(_label=summary.apply(_renderer_label, axis=1))
+    df = bar_rows(summary)
     stages_ = _ordered(df[names.STAGE], names.stage_order)
-    scenes = list(pd.unique(df[names.SCENE]))
+    scenes = _scenes_by_size(df)
     labels = _ordered(df["_label"], lambda text: names.renderer_order(text.split(" ")[0]))
     fig, axes = plt.subplots(1, len(stages_), figsize=(4.2 * len(stages_) + 1, 3.8), sharey=True, squeeze=False)
     width = 0.8 / max(len(labels), 1)
-    colors = plt.get_cmap("tab10")
+    colors = _palette(len(labels))
     for ax, stage in zip(axes[0], stages_):
         part = df[df[names.STAGE] == stage]
         for i, label in enumerate(labels):
-            rows = [part[(part["_label"] == label) & (part[names.SCENE] == s)] for s in scenes]
-            med = np.array([r["median"].iloc[0] if len(r) else np.nan for r in rows])
-            lo = np.array([r["ci_low"].iloc[0] if len(r) else np.nan for r in rows])
-            hi = np.array([r["ci_high"].iloc[0] if len(r) else np.nan for r in rows])
-            x = np.arange(len(scenes)) + (i - (len(labels) - 1) / 2) * width
-            ax.bar(x, med, width, label=label, color=colors(i % 10), yerr=[med - lo, hi - med], capsize=2)
+            _bars(ax, part[part["_label"] == label], scenes, (i - (len(labels) - 1) / 2) * width, width,
+                  label=label, color=colors(i))
         _log_y(ax, np.concatenate([df["ci_low"].to_numpy(dtype=float), df["ci_high"].to_numpy(dtype=float)]), pad=1.6)
         ax.set_title(f"stage {stage}")
         ax.set_xticks(np.arange(len(scenes)), scenes)
         ax.grid(axis="y", which="both", alpha=0.3)
     axes[0][0].set_ylabel("render_ms per frame (median, log scale)")
-    axes[0][-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1))
+    handles = {h.get_label(): h for ax in axes[0] for h in ax.get_legend_handles_labels()[0]}
+    axes[0][-1].legend([handles[label] for label in labels if label in handles],
+                       [label for label in labels if label in handles],
+                       fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1))
     fig.suptitle(f"Render time per frame ({_size_text(df)})")
     return save(fig, stem)
 
 
+def bar_rows(summary: pd.DataFrame) -> pd.DataFrame:
+    """The configurations render_bars draws, with their legend label in
+    `_label`: per scene, renderer, stage, accel and size the one with the
+    most threads x lanes."""
+    widest = tables.widest_rows(summary)
+    return widest.assign(_label=widest.apply(_renderer_label, axis=1, with_size=_several_sizes(widest)))
+
+
+def _bars(ax, rows: pd.DataFrame, scenes: list[str], offset: float, width: float, **style) -> None:
+    """One configuration's bars over the scenes it ran (a scene it did not
+    run gets no bar, not a NaN one), with the median's CI as error bars."""
+    rows = rows.set_index(names.SCENE)
+    at = [k for k, scene in enumerate(scenes) if scene in rows.index]
+    if not at:
+        return
+    hit = rows.loc[[scenes[k] for k in at]]
+    med, lo, hi = (hit[c].to_numpy(dtype=float) for c in ("median", "ci_low", "ci_high"))
+    ax.bar(np.array(at) + offset, med, width, yerr=[med - lo, hi - med], capsize=2, **style)
+
+
+def _scenes_by_size(df: pd.DataFrame) -> list[str]:
+    """The scenes from fewest spheres to most (then by name)."""
+    counts = df.groupby(names.SCENE)[names.SPHERES].first()
+    return sorted(counts.index, key=lambda scene: (counts[scene], scene))
 def _size_text(df: pd.DataFrame) -> str:
-    sizes = sorted({f"{w}x{h}" for w, h in zip(df[names.WIDTH], df[names.HEIGHT])})
-    return ", ".join(sizes)
+    sizes = sorted({(int(w), int(h)) for w, h in zip(df[names.WIDTH], df[names.HEIGHT])}, key=lambda s: (s[0] * s[1], s))
+    return ", ".join(f"{w}x{h}" for w, h in sizes)
 
 
 def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
@@ -135,8 +176,8 @@ def _grid(frames: pd.DataFrame):
     return fig, axes, stages_, scenes
 
 
-def _config_label(group: pd.DataFrame) -> str:
-    return _renderer_label(group.iloc[0])
+def _config_label(group: pd.DataFrame, with_size: bool = False) -> str:
+    return _renderer_label(group.iloc[0], with_size)
 
 
 def frame_series(frames: pd.DataFrame, stem: Path) -> list[Path]:
@@ -147,17 +188,19 @@ def frame_series(frames: pd.DataFrame, stem: Path) -> list[Path]:
         return []
     fig, axes, stages_, scenes = _grid(frames)
     outliers = stats.flag_outliers(frames)
-    colors = plt.get_cmap("tab10")
+    with_size = _several_sizes(frames)
     for (i, stage), (j, scene) in ((a, b) for a in enumerate(stages_) for b in enumerate(scenes)):
         ax = axes[i][j]
         part = frames[(frames[names.STAGE] == stage) & (frames[names.SCENE] == scene)]
-        for k, (_, group) in enumerate(part.groupby(names.CONFIG_ID, sort=False)):
+        configs = part.groupby(names.CONFIG_ID, sort=False)
+        colors = _palette(configs.ngroups)
+        for k, (_, group) in enumerate(configs):
             group = group.sort_values([names.REPETITION, names.FRAME])
             x = np.arange(len(group))
-            color = colors(k % 10)
+            color = colors(k)
             warm = group[names.WARMUP].to_numpy() == 1
             y = group[names.RENDER_MS].to_numpy()
-            ax.plot(x, y, color=color, linewidth=0.8, label=_config_label(group))
+            ax.plot(x, y, color=color, linewidth=0.8, label=_config_label(group, with_size))
             ax.scatter(x[~warm], y[~warm], color=color, s=8)
             ax.scatter(x[warm], y[warm], facecolors="none", edgecolors=color, s=14)
             flagged = outliers.loc[group.index].to_numpy()
@@ -169,7 +212,7 @@ def frame_series(frames: pd.DataFrame, stem: Path) -> list[Path]:
         ax.set_title(f"{scene}, {stage}", fontsize=8)
         ax.grid(alpha=0.3, which="both")
         if len(part):
-            ax.legend(fontsize=6)
+            ax.legend(fontsize=6, ncol=1 if configs.ngroups <= 10 else 2)
     fig.supxlabel("frame, repetitions in run order, dotted: next repetition (hollow: warm-up; red x: outlier)")
     fig.supylabel("render_ms (log scale)")
     return save(fig, stem)
@@ -182,6 +225,7 @@ def distributions(frames: pd.DataFrame, stem: Path) -> list[Path]:
     if meas.empty:
         return []
     fig, axes, stages_, scenes = _grid(meas)
+    with_size = _several_sizes(meas)
     for (i, stage), (j, scene) in ((a, b) for a in enumerate(stages_) for b in enumerate(scenes)):
         ax = axes[i][j]
         part = meas[(meas[names.STAGE] == stage) & (meas[names.SCENE] == scene)]
@@ -189,7 +233,7 @@ def distributions(frames: pd.DataFrame, stem: Path) -> list[Path]:
         groups.sort(key=lambda g: names.renderer_order(g[names.RENDERER].iloc[0]))
         if groups:
             ax.boxplot([g[names.RENDER_MS].to_numpy() for g in groups], showmeans=True, widths=0.6)
-            ax.set_xticks(range(1, len(groups) + 1), [_config_label(g) for g in groups], rotation=30, ha="right",
+            ax.set_xticks(range(1, len(groups) + 1), [_config_label(g, with_size) for g in groups], rotation=30, ha="right",
                           fontsize=7)
         _log_y(ax, part[names.RENDER_MS])
         ax.set_title(f"{scene}, {stage}", fontsize=8)

@@ -94,15 +94,18 @@ def compute(inputs: ReportInputs) -> ReportResults:
 
 def build_tables(summary, met, thesis_metrics, thesis_tables, fits) -> list[tables.Table]:
     """Tables 1-4 per image size, then the comparisons, the cost vs spheres
-    (where the run has it), then everything."""
+    (where the run has it), then everything. At the run's main size all
+    four tables (a renderer that did not run is a column of dashes); at
+    another size only those where one of their renderers ran (a gpu-only
+    1920x1080 leaves table 2, simd_only and tbb_only, empty)."""
     sizes = tables.sizes(summary)
     scenes = _scene_order(summary, thesis_tables)
     built = []
     for size in sizes:
         for spec in thesis.table_layout(thesis_tables):
-            t = tables.thesis_mirror(summary, spec, size, scenes)
-            if len(sizes) > 1:
-                t = tables.Table(f"{t.slug}-{size[0]}x{size[1]}", t.title, t.headers, t.rows, t.align, t.notes)
+            t = tables.thesis_mirror(summary, spec, size, scenes, name_size=len(sizes) > 1)
+            if size != sizes[0] and all(cell == tables.MISSING for row in t.rows for cell in row[1:]):
+                continue
             built.append(t)
     built.append(tables.side_by_side(summary, thesis_tables, sizes[0]))
     built.append(tables.stage_effects(summary, thesis_tables, sizes[0]))
@@ -379,10 +382,11 @@ HOW_TO_READ = """## How to read this report
   render time per frame (`render_ms`, host wall time of the Render phase).
 - The thesis reported arithmetic means at -O0 on an Apple M1; times do not
   compare across machines, **speedups** over the sequential reference do.
-- Where a renderer ran with several thread counts or lane widths, tables 1-4
-  and the comparisons show the configuration with the most threads x lanes;
-  all of them are in the summary table. They show brute force (accel
-  `none`), the thesis' algorithm; other accels are in the summary.
+- Where a renderer ran with several thread counts or lane widths, tables 1-4,
+  the comparisons and the render-time figure show the configuration with the
+  most threads x lanes; all of them are in the summary table, the scaling
+  and Karp-Flatt figures. Tables 1-4 show brute force (accel `none`), the
+  thesis' algorithm; other accels are in the summary.
 - Uncertainty: the 95 % bootstrap confidence interval of the median (seeded,
   so a report regenerates identically) and the spread between repetitions.
   Frames with a modified z-score above 3.5 are flagged as outliers, never

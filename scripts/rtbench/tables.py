@@ -114,10 +114,15 @@ def headline_rows(summary: pd.DataFrame) -> pd.DataFrame:
     thesis ran it: brute force (accel none), and of those the one with the
     most threads x lanes, i.e. the whole machine. All others stay in the
     summary table."""
-    summary = summary[summary[names.ACCEL] == names.BRUTE_FORCE]
+    return widest_rows(summary[summary[names.ACCEL] == names.BRUTE_FORCE])
+
+
+def widest_rows(summary: pd.DataFrame) -> pd.DataFrame:
+    """One configuration per (scene, renderer, stage, accel, size, build):
+    the one with the most threads x lanes (ties: the most lanes)."""
     df = summary.assign(_p=summary[names.THREADS] * summary[names.LANES].clip(lower=1))
     df = df.sort_values(["_p", names.LANES], ascending=False, kind="stable")
-    keys = [names.SCENE, names.RENDERER, names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    keys = [names.SCENE, names.RENDERER, names.STAGE, names.ACCEL, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
     return df.drop_duplicates(keys).drop(columns="_p")
 
 
@@ -144,9 +149,11 @@ def _describe_config(row: pd.Series) -> str:
 
 # --- builders ----------------------------------------------------------------------
 
-def thesis_mirror(summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int], scenes: list[str]) -> Table:
+def thesis_mirror(summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int], scenes: list[str],
+                  name_size: bool = False) -> Table:
     """Our run in the shape of one thesis table: scenes x renderers, median
-    render time per frame."""
+    render time per frame. name_size: the run has several sizes, so the
+    size is in the table's slug and title (two Table 1s: which is which)."""
     heads = _at_size(headline_rows(summary), size)
     heads = heads[heads[names.STAGE] == spec.stage]
     rows, used = [], {}
@@ -163,7 +170,11 @@ def thesis_mirror(summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int],
     if used:
         notes.append("Configurations: " + "; ".join(f"{r}: {d}" for r, d in used.items()) + ".")
     notes += _brute_force_note(summary)
-    return Table(f"table{spec.number}-{spec.stage}", f"Table {spec.number} ({spec.stage}): render time per frame [ms]",
+    size_text = f"{size[0]}x{size[1]}"
+    slug, name = f"table{spec.number}-{spec.stage}", f"Table {spec.number} ({spec.stage})"
+    if name_size:
+        slug, name = f"{slug}-{size_text}", f"{name}, {size_text}"
+    return Table(slug, f"{name}: render time per frame [ms]",
                  ["scene", *spec.renderers], rows, "l" + "r" * len(spec.renderers), notes)
 
 
