@@ -56,27 +56,25 @@ if(RT_BUILD_TESTS)
   rt_require_package(GTest libgtest-dev)
 endif()
 
-# Embree 3, for the Embree reference renderer (--embree): optional. On by
-# default where it is found; asked for and missing stops the configure step.
-# Off, the renderer stays in the schema and answers "not built" (exit 2).
-find_package(embree 3 QUIET)
-option(RT_EMBREE "Build the Embree reference renderer (--embree)" ${embree_FOUND})
-if(RT_EMBREE AND NOT embree_FOUND)
-  message(FATAL_ERROR
-    "RT_EMBREE is ON but Embree 3 was not found. On Debian/Ubuntu: apt-get install libembree-dev"
-    " (or run scripts/setup-debian as root), or configure with -DRT_EMBREE=OFF.")
-endif()
+# An optional feature over one package: option OPTION is on by default
+# where the package is found; asked for and missing stops the configure
+# step naming the Debian package. Off, the feature stays in the schema and
+# answers "not built" (exit 2).
+macro(rt_optional_feature option package version debian what)
+  find_package(${package} ${version} QUIET)
+  option(${option} "Build ${what}" ${${package}_FOUND})
+  if(${option} AND NOT ${package}_FOUND)
+    message(FATAL_ERROR
+      "${option} is ON but ${package} ${version} was not found. On Debian/Ubuntu: apt-get install ${debian}"
+      " (or run scripts/setup-debian as root), or configure with -D${option}=OFF.")
+  endif()
+endmacro()
 
-# GLFW 3, for the live window (--window): optional. On by default where it
-# is found (CI and the Nix package build it); off, the binary keeps today's
-# dependencies and --window answers "not built" (exit 2).
-find_package(glfw3 3.3 QUIET)
-option(RT_WINDOW "Build the live window (--window): GLFW + a Vulkan swapchain" ${glfw3_FOUND})
-if(RT_WINDOW AND NOT glfw3_FOUND)
-  message(FATAL_ERROR
-    "RT_WINDOW is ON but GLFW 3 was not found. On Debian/Ubuntu: apt-get install libglfw3-dev"
-    " (or run scripts/setup-debian as root), or configure with -DRT_WINDOW=OFF.")
-endif()
+# Embree 3, for the Embree reference renderer (--embree).
+rt_optional_feature(RT_EMBREE embree 3 libembree-dev "the Embree reference renderer (--embree)")
+# GLFW 3, for the live window (--window); CI and the Nix package build it,
+# and without it the binary keeps today's dependencies.
+rt_optional_feature(RT_WINDOW glfw3 3.3 libglfw3-dev "the live window (--window): GLFW + a Vulkan swapchain")
 
 # Versions recorded in every run's metadata (the ones this binary was built against).
 set(RT_LIBRARY_VERSIONS
