@@ -109,7 +109,13 @@ void checkRendererOptionsApply(RendererKind kind, const RendererOptionSlots& giv
   }
 }
 
-void requireExistingDirectory(const std::filesystem::path& file, const std::string& option) {
+// An output path: checked before the run, so that a long run does not fail
+// at its end (an empty path or a directory found by the fuzz driver did).
+void requireOutputPath(const std::filesystem::path& file, const std::string& option) {
+  if (file.empty()) throw CLI::ValidationError(option, "empty output path");
+  if (std::filesystem::is_directory(file)) {
+    throw CLI::ValidationError(option, "'" + file.string() + "' is a directory, not a file");
+  }
   const auto dir = file.parent_path();
   if (!dir.empty() && !std::filesystem::is_directory(dir)) {
     throw CLI::ValidationError(option, "directory '" + dir.string() + "' does not exist");
@@ -253,11 +259,11 @@ void applyWindowOptions(const RawOptions& raw, RunConfig& config) {
 void applyOutputs(const RawOptions& raw, RunConfig& config) {
   if (*raw.csvOption) {
     config.csvPath = raw.csv;
-    requireExistingDirectory(raw.csv, "--csv");
+    requireOutputPath(raw.csv, "--csv");
   }
   if (*raw.metaOption) {
     config.metaPath = raw.meta;
-    requireExistingDirectory(raw.meta, "--meta");
+    requireOutputPath(raw.meta, "--meta");
   }
   for (const auto& text : raw.saveFrames) {
     SaveFrameRequest request = parseSaveFrame(text);
@@ -265,7 +271,7 @@ void applyOutputs(const RawOptions& raw, RunConfig& config) {
       throw CLI::ValidationError("--save-frame", "frame " + std::to_string(request.frame) + " is past the last frame (" +
                                                      std::to_string(config.totalFrames() - 1) + ")");
     }
-    requireExistingDirectory(request.file, "--save-frame");
+    requireOutputPath(request.file, "--save-frame");
     config.saveFrames.push_back(std::move(request));
   }
 }

@@ -173,7 +173,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::scene:
         value = {{"name", scene.name},
                  {"path", config.scenePath.string()},
-                 {"sha256", sha256HexOfFile(config.scenePath)},
+                 {"sha256", scene.sha256},
                  {"spheres", scene.spheres.size()}};
         break;
       case RunMetadataKey::config: value = configJson(config, identity); break;

@@ -44,6 +44,9 @@ inline constexpr int kMaxDepthLimit = RT_MAX_DEPTH_LIMIT;
 
 struct Scene {
   std::string name;  // file stem, e.g. "random100"
+  // SHA-256 of the text the scene was parsed from: the run metadata records
+  // what was rendered without opening the file again (a pipe reads once).
+  std::string sha256;
   CameraSpec camera;
   LightData lightData;
   std::vector<Sphere> spheres;  // contiguous: the renderers walk it per ray

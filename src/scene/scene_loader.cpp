@@ -11,6 +11,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "core/sha256.h"
 #include "rt_schema.h"
 
 namespace rt {
@@ -330,6 +331,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName) {
   ObjectReader r(root, "", sourceName);
   Scene scene;
   scene.name = std::filesystem::path(sourceName).stem().string();
+  scene.sha256 = sha256Hex({reinterpret_cast<const std::uint8_t*>(jsonText.data()), jsonText.size()});
   scene.camera = readCamera(ObjectReader(r.require("camera"), "camera", sourceName));
   scene.lightData = readLight(ObjectReader(r.require("lightData"), "lightData", sourceName));
 

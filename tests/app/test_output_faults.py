@@ -133,14 +133,22 @@ def test_a_path_below_a_file_is_bad_input_and_writes_nothing(raytracer, repo_roo
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
 
 
-def test_an_output_path_that_is_a_directory_is_left_alone(raytracer, repo_root, tmp_path):
-    (tmp_path / "run.csv").mkdir()
-    (tmp_path / "run.csv" / "keep").write_text("x")
-    done = subprocess.run(command(raytracer, repo_root, tmp_path), capture_output=True, text=True, timeout=120)
-    assert done.returncode == 1
-    assert "run.csv" in done.stderr and "Is a directory" in done.stderr, done.stderr
-    assert (tmp_path / "run.csv" / "keep").read_text() == "x"
-    assert leftovers(tmp_path) == []
+@pytest.mark.parametrize("option", ["--csv", "--meta", "--save-frame"])
+@pytest.mark.parametrize("path", ["", "{dir}"], ids=["empty", "a-directory"])
+def test_an_output_path_that_cannot_be_a_file_is_bad_input(raytracer, repo_root, tmp_path, option, path):
+    """Refused before the run (the fuzz driver found both accepted, failing
+    with exit 1 only after the last frame); the directory is left alone."""
+    (tmp_path / "dir").mkdir()
+    (tmp_path / "dir" / "keep").write_text("x")
+    value = path.format(dir=tmp_path / "dir")
+    cmd = command(raytracer, repo_root, tmp_path)
+    cmd[cmd.index(option) + 1] = f"0:{value}" if option == "--save-frame" else value
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr
+    last = done.stderr.splitlines()[-1]
+    assert option in last and ("empty" in last or "is a directory" in last or "K:FILE.png" in last), last
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dir"]
+    assert (tmp_path / "dir" / "keep").read_text() == "x"
 
 
 def test_sigkill_in_the_frame_loop_keeps_the_previous_outputs(raytracer, repo_root, tmp_path, previous):

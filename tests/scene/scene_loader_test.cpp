@@ -6,6 +6,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 
+#include "core/sha256.h"
 #include "test_support.h"
 
 namespace rt {
@@ -75,6 +76,15 @@ TEST(SceneLoader, ForwardDerivedFromFocusPointWhenAbsent) {
   j["camera"]["position"] = {0, 0, -4};
   const Scene s = parse(j);
   EXPECT_DOUBLE_EQ(s.camera.forward.z, 1.0);
+}
+
+// The run metadata's scene.sha256 comes from the text parsed, so a scene
+// read from a pipe is not opened a second time (the fuzz driver's FIFO hung).
+TEST(SceneLoader, RecordsTheSha256OfTheTextItParsed) {
+  const std::string text = validScene().dump();
+  EXPECT_EQ(parseScene(text, "scenes/test.json").sha256,
+            sha256Hex({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}));
+  EXPECT_EQ(test::loadNamedScene("default").sha256, sha256HexOfFile(test::scenePath("default")));
 }
 
 TEST(SceneLoader, CommittedScenesLoad) {
