@@ -4,7 +4,7 @@
   here with clang into build/fuzz-libfuzzer), run for RT_LIBFUZZER_SECONDS
   (default 30) from the committed corpus;
 - the mutation driver (fuzz_cli.py) over the binary under test ($RT_BINARY:
-  in CI the ASan + UBSan debug build) for RT_FUZZ_SECONDS (default 60), with
+  in CI the ASan + UBSan debug build) for RT_FUZZ_SECONDS (default 45), with
   a fixed seed (RT_FUZZ_SEED) so a failure reproduces;
 - every regression input in tests/fuzz/regressions/.
 
@@ -47,7 +47,7 @@ def test_regression_input_now_passes(raytracer, repo_root, path):
 
 
 def test_mutation_driver_finds_nothing(raytracer, tmp_path):
-    seconds = float(os.environ.get("RT_FUZZ_SECONDS", "60"))
+    seconds = float(os.environ.get("RT_FUZZ_SECONDS", "45"))
     seed = int(os.environ.get("RT_FUZZ_SEED", "14"))
     summary = fuzz_cli.campaign(raytracer.resolve(), cases=100_000, seconds=seconds, seed=seed, jobs=2,
                                 timeout=120, keep=tmp_path / "failures")
