@@ -243,8 +243,9 @@ OVERRIDE_RULES = {
     "stages": Rule("str", OPTIONAL, shape="list"),
     "scenes": Rule("str", OPTIONAL, shape="list"),
     "accels": replace(TOP_RULES["accels"], default=OPTIONAL),
-    # Axis values of the configuration (as its command line has them), e.g. to
-    # run the thread counts of a scaling study on one scene only.
+    # Axis values of the configuration as the profile writes them (a number
+    # never matches the threads "all" resolves to), e.g. to run the thread
+    # counts of a scaling study on one scene only.
     "threads": Rule("int", OPTIONAL, shape="list", minimum=1),
     "lanes": Rule("int|str", OPTIONAL, shape="list", choices=(*names.LANE_WIDTHS, NATIVE_LANES)),
     **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in ("width", "height", "warmup", "frames", "args")},
@@ -388,15 +389,19 @@ def resolve_scene(arg: str, scenes_dir: Path = SCENES_DIR) -> Path:
 
 # --- expansion ---------------------------------------------------------------
 
-def axis_values(axis: str, values: list, cpu_count: int) -> list[str]:
-    """The command-line values of one axis. threads accept "all" (every
-    logical core) and ranges "A..B" (B may be "all"), so one profile scales
-    with the machine it runs on."""
+def axis_items(axis: str, values: list, cpu_count: int) -> list[tuple[str, str]]:
+    """The values of one axis as (as the profile writes it, command-line
+    value) pairs. threads accept "all" (every logical core) and ranges "A..B"
+    (B may be "all"; each number of a range is written as itself), so one
+    profile scales with the machine it runs on. An override matches the
+    written value: on a 2-core machine "all" is 2 on the command line, but
+    an override of threads 2 (a scaling point) does not reach it."""
     if axis != "threads":
-        return [str(v) for v in values]
-    out: list[str] = []
+        return [(str(v), str(v)) for v in values]
+    out: list[tuple[str, str]] = []
     for v in values:
-        out += [str(n) for n in parse_threads(v, cpu_count)]
+        numbers = parse_threads(v, cpu_count)
+        out += [("all", str(numbers[0]))] if v == "all" else [(str(n), str(n)) for n in numbers]
     return list(dict.fromkeys(out))
 
 
@@ -430,17 +435,22 @@ def expand(profile: Profile, scene_paths: list[Path], cpu_count: int, renderers:
             continue
         spec = profile.renderers[renderer]
         axes = [axis for axis in RENDERER_AXES if axis in spec]
-        for combo in itertools.product(*(axis_values(a, spec[a], cpu_count) for a in axes)):
+        ids = set()  # of this scene, stage, accel and renderer
+        for combo in itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes)):
             config = Config(
                 scene=scene_path.stem, scene_path=str(scene_path), renderer=renderer, variant=variant,
                 width=profile.width, height=profile.height, warmup=profile.warmup, frames=profile.frames,
-                axes=tuple(zip(axes, combo)), args=(*profile.args, *spec["args"]),
+                axes=tuple((a, value) for a, (_, value) in zip(axes, combo)), args=(*profile.args, *spec["args"]),
                 accel=names.OWN_ACCEL.get(renderer, accel),
             )
-            config = apply_overrides(sized(config), profile.overrides)
+            config = apply_overrides(sized(config), profile.overrides, dict(zip(axes, (w for w, _ in combo))))
+            # Two written values of one command line ("all" and 2 on 2 cores) run once, the first kept.
             # A renderer with its own structure runs once, not once per accel.
-            if config is not None and not (renderer in names.OWN_ACCEL and any(c.id == config.id for c in configs)):
-                configs.append(replace(config, **(forced or {})))
+            if config is None or config.id in ids or (renderer in names.OWN_ACCEL
+                                                      and any(c.id == config.id for c in configs)):
+                continue
+            ids.add(config.id)
+            configs.append(replace(config, **(forced or {})))
     _check_unique(configs)
     return configs
 
@@ -454,10 +464,12 @@ def sized(config: Config) -> Config:
     return replace(config, width=width, height=height)
 
 
-def apply_overrides(config: Config, overrides: tuple[dict, ...]) -> Config | None:
-    """Applies the matching [[overrides]] in order; None if one says skip."""
+def apply_overrides(config: Config, overrides: tuple[dict, ...], written: dict[str, str]) -> Config | None:
+    """Applies the matching [[overrides]] in order; None if one says skip.
+    `written`: the configuration's axis values as the profile writes them
+    (axis_items), which the overrides' threads and lanes match."""
     for o in overrides:
-        if not _matches(config, o):
+        if not _matches(config, o, written):
             continue
         if o.get("skip"):
             return None
@@ -479,22 +491,22 @@ def generated_scenes(configs: list[Config]) -> list[str]:
     return list(dict.fromkeys(c.scene for c in configs if Path(c.scene_path).parent == GENERATED_SCENES))
 
 
-def _matches(config: Config, override: dict) -> bool:
+def _matches(config: Config, override: dict, written: dict[str, str]) -> bool:
     return (
         config.renderer in override.get("renderers", [config.renderer])
         and config.variant.label in override.get("stages", [config.variant.label])
         and config.scene in override.get("scenes", [config.scene])
         and config.accel in override.get("accels", [config.accel])
-        and all(_axis_matches(config, override, axis) for axis in OVERRIDE_AXES)
+        and all(_axis_matches(written, override, axis) for axis in OVERRIDE_AXES)
     )
 
 
-def _axis_matches(config: Config, override: dict, axis: str) -> bool:
+def _axis_matches(written: dict[str, str], override: dict, axis: str) -> bool:
     """True where the override names no values of this axis, or the
-    configuration has the axis at one of them."""
+    configuration has the axis at one of them (as the profile writes it)."""
     if axis not in override:
         return True
-    value = dict(config.axes).get(axis)
+    value = written.get(axis)
     return value is not None and value in {str(v) for v in override[axis]}
 
 

@@ -76,3 +76,33 @@ def test_the_gpu_machine_profile_on_16_cores():
     assert threads[("simd_tbb", "4")] == threads[("simd_tbb", "native")] == threads[("tbb_only", None)] == expected
     sizes = Counter((c.width, c.height) for c in configs if c.renderer == "gpu")
     assert sizes == {(800, 600): 9, (1920, 1080): 9}
+
+
+def test_an_override_of_a_thread_count_does_not_reach_all_cores_of_that_count():
+    """On 2 cores "all" is threads 2 on the command line, but an override of
+    the scaling point 2 does not skip it: the profile wrote "all"; where both
+    give the same command line it runs once."""
+    p = profile(renderers={"tbb_only": {"threads": [1, 2, "all"]}},
+                overrides=[{"scenes": ["default"], "threads": [1, 2], "skip": True}])
+    ids = [c.id for c in profiles.expand(p, SCENES, 2)]
+    assert sorted(i for i in ids if i.startswith("default-")) == [
+        "default-tbb_only-optimized-threads2", "default-tbb_only-original-threads2"]
+    assert sorted(i for i in ids if i.startswith("random100-")) == [
+        "random100-tbb_only-optimized-threads1", "random100-tbb_only-optimized-threads2",
+        "random100-tbb_only-original-threads1", "random100-tbb_only-original-threads2"]
+
+
+def test_the_gpu_machine_profile_on_our_2_cores_keeps_the_paper_matrix_on_all_cores():
+    """What scripts/compare.py --all-cores needs to match this machine's run
+    with the GPU machine's: every scene and stage has the CPU renderers at
+    threads 2 (all cores here); the scaling points only on random100 /
+    optimized."""
+    p = profiles.load_profile("gpu-machine")
+    configs = profiles.expand(p, [profiles.resolve_scene(s) for s in p.scenes], 2)
+    for renderer in ("simd_tbb", "tbb_only", "embree"):
+        cells = {(c.scene, c.variant.label) for c in configs
+                 if c.renderer == renderer and dict(c.axes)["threads"] == "2" and dict(c.axes).get("lanes") != "4"}
+        assert len(cells) == 9, renderer
+    above = {(c.scene, c.variant.label) for c in configs if int(dict(c.axes).get("threads", 0)) > 2}
+    assert above == {("random100", "optimized")}
+    assert len(configs) == len({c.id for c in configs})
