@@ -94,7 +94,8 @@ def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
     stages_ = _ordered(df[names.STAGE], names.stage_order)
     scenes = _scenes_by_size(df)
     labels = _ordered(df["_label"], lambda text: names.renderer_order(text.split(" ")[0]))
-    fig, axes = plt.subplots(1, len(stages_), figsize=(4.2 * len(stages_) + 1, 3.8), sharey=True, squeeze=False)
+    panel = max(4.2, 0.12 * len(labels) * len(scenes))  # inches: room for every bar and scene name
+    fig, axes = plt.subplots(1, len(stages_), figsize=(panel * len(stages_) + 1, 3.8), sharey=True, squeeze=False)
     width = 0.8 / max(len(labels), 1)
     colors = _palette(len(labels))
     for ax, stage in zip(axes[0], stages_):
@@ -277,13 +278,13 @@ def cost_vs_spheres(curves: pd.DataFrame, fits: pd.DataFrame, stem: Path) -> lis
     power law dashed and its exponent k in the legend."""
     if fits.empty:
         return []
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    colors = plt.get_cmap("tab10")
+    fig, ax = plt.subplots(figsize=(8.4, 4.6))
+    colors = _palette(len(fits))
     label_keys = _varying(fits, [names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE])
     for i, fit in enumerate(fits.itertuples(index=False)):
         fit = fit._asdict()
         points = curves[curves[metrics.CURVE] == fit[metrics.CURVE]]
-        color = colors(i % 10)
+        color = colors(i)
         marker = ACCEL_MARKERS[names.accel_order(fit[names.ACCEL]) % len(ACCEL_MARKERS)]
         label = " ".join([fit[names.RENDERER], *_option_texts(fit), fit[names.ACCEL],
                           *(str(fit[key]) for key in label_keys)])
@@ -296,7 +297,8 @@ def cost_vs_spheres(curves: pd.DataFrame, fits: pd.DataFrame, stem: Path) -> lis
     ax.set_xlabel("spheres N (log scale)")
     ax.set_ylabel("render_ms per frame (median, log scale)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, title="dashed: fit ms = c N^k", title_fontsize=7)
+    # Beside the axes: inside, it hides the points of the cheapest lines.
+    ax.legend(fontsize=7, title="dashed: fit ms = c N^k", title_fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1))
     ax.set_title(f"Cost vs spheres ({_size_text(curves)})")
     return save(fig, stem)
 

@@ -94,17 +94,18 @@ def compute(inputs: ReportInputs) -> ReportResults:
 
 def build_tables(summary, met, thesis_metrics, thesis_tables, fits) -> list[tables.Table]:
     """Tables 1-4 per image size, then the comparisons, the cost vs spheres
-    (where the run has it), then everything. At the run's main size all
-    four tables (a renderer that did not run is a column of dashes); at
-    another size only those where one of their renderers ran (a gpu-only
-    1920x1080 leaves table 2, simd_only and tbb_only, empty)."""
+    (where the run has it), then everything. A thesis table where none of
+    its renderers ran at its stage and size is left out (a gpu-only
+    1920x1080 leaves table 2, simd_only and tbb_only, empty; a run of
+    stage optimized only tables 1-3); the README says which
+    (_missing_tables_note)."""
     sizes = tables.sizes(summary)
     scenes = _scene_order(summary, thesis_tables)
     built = []
     for size in sizes:
         for spec in thesis.table_layout(thesis_tables):
             t = tables.thesis_mirror(summary, spec, size, scenes, name_size=len(sizes) > 1)
-            if size != sizes[0] and all(cell == tables.MISSING for row in t.rows for cell in row[1:]):
+            if all(cell == tables.MISSING for row in t.rows for cell in row[1:]):
                 continue
             built.append(t)
     built.append(tables.side_by_side(summary, thesis_tables, sizes[0]))
@@ -119,10 +120,12 @@ def build_tables(summary, met, thesis_metrics, thesis_tables, fits) -> list[tabl
 
 
 def _scene_order(summary: pd.DataFrame, thesis_tables: pd.DataFrame) -> list[str]:
-    """The thesis' scenes in its order, then any other scene of the run."""
-    ours = list(pd.unique(summary[names.SCENE]))
-    known = [s for s in pd.unique(thesis_tables["scene"]) if s in ours]
-    return known + [s for s in ours if s not in known]
+    """The scenes from fewest spheres to most (the thesis' order for its
+    own scenes), ties in the thesis' order, then by name."""
+    thesis_order = list(pd.unique(thesis_tables["scene"]))
+    spheres = summary.groupby(names.SCENE)[names.SPHERES].first()
+    return sorted(spheres.index, key=lambda s: (spheres[s], thesis_order.index(s) if s in thesis_order else
+                                                len(thesis_order), s))
 
 
 def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
@@ -265,6 +268,7 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         HOW_TO_READ,
         "## The thesis' tables 1-4, for our run\n",
         *(tables.to_markdown(t) for t in results.tables if t.slug.startswith("table")),
+        _missing_tables_note(inputs.thesis_tables, results.tables),
         "## The thesis beside ours\n",
         tables.to_markdown(by_slug["thesis-vs-ours"]),
         _figure(figures, "thesis_speedups", "Speedups: thesis vs ours", out),
@@ -298,6 +302,17 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         _unfinished_section(inputs.run_dirs, inputs.manifests),
     ]
     return "\n".join(p for p in parts if p)
+
+
+def _missing_tables_note(thesis_tables: pd.DataFrame, built: list[tables.Table]) -> str:
+    """Which thesis tables build_tables left out: none of their renderers ran
+    at their stage, at any size."""
+    shown = {t.slug.split("-")[0] for t in built}
+    missing = [spec for spec in thesis.table_layout(thesis_tables) if f"table{spec.number}" not in shown]
+    if not missing:
+        return ""
+    which = ", ".join(f"{spec.number} ({spec.stage}: {', '.join(spec.renderers)})" for spec in missing)
+    return f"Not shown, since none of their renderers ran at their stage in this run: table{'s' * (len(missing) > 1)} {which}.\n"
 
 
 def _cost_section(by_slug: dict[str, tables.Table], figures: dict[str, list[Path]], out: Path) -> str:

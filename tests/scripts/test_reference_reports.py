@@ -11,6 +11,7 @@ from rtbench import report_writer
 # (report directory, its committed run), as data/reference-runs/README.md lists them.
 REFERENCES = [
     ("report/gpu-machine", "data/reference-runs/gpu-machine.tar.xz"),
+    ("report/gpu-machine-scene-size", "data/reference-runs/gpu-machine-scene-size.tar.xz"),
     ("report", None),  # the 2-core machine's paper run: its run directory was not kept
 ]
 # The figures are compared only under the matplotlib that drew the committed

@@ -29,16 +29,18 @@ def mixed_run(tmp_path_factory):
     return write_run_dir(tmp_path_factory.mktemp("run") / "20260101T000000Z-mixed", runs)
 
 
-def test_thesis_tables_at_a_second_size_name_it_and_skip_the_empty_ones(mixed_run):
-    results = report_writer.compute(report_writer.gather([mixed_run]))
+def test_thesis_tables_name_their_size_and_the_empty_ones_are_left_out(mixed_run):
+    inputs = report_writer.gather([mixed_run])
+    results = report_writer.compute(inputs)
     mirrors = {t.slug: t for t in results.tables if t.slug.startswith("table")}
     small, large = (f"{w}x{h}" for w, h in (SMALL, LARGE))
-    # The main size keeps all four tables (renderers that did not run are dashes) ...
-    assert {slug for slug in mirrors if slug.endswith(small)} == {
-        f"table1-original-{small}", f"table2-original-{small}", f"table3-single-pass-{small}",
-        f"table4-optimized-{small}"}
-    # ... the other size only the table where its gpu runs (stage optimized).
+    # Stages single-pass and optimized ran at the small size; at the large one only the gpu, optimized.
+    assert {slug for slug in mirrors if slug.endswith(small)} == {f"table3-single-pass-{small}",
+                                                                   f"table4-optimized-{small}"}
     assert {slug for slug in mirrors if slug.endswith(large)} == {f"table4-optimized-{large}"}
+    readme = report_writer.readme(inputs, results, {}, mixed_run)
+    assert "none of their renderers ran at their stage in this run: tables 1 (original: " in readme
+    assert "**Table 3 (single-pass), 96x72: render time per frame [ms]**" in readme
     assert mirrors[f"table4-optimized-{large}"].title.startswith(f"Table 4 (optimized), {large}:")
     # Its gpu column is the large size's median (1.50 and 1.52 measured), not the small one's.
     assert [row[-1] for row in mirrors[f"table4-optimized-{large}"].rows] == ["–", "1.510"]
