@@ -68,3 +68,23 @@ def test_a_report_from_an_archive_is_the_report_from_its_directory(tmp_path):
     assert sorted(from_dir) == sorted(from_archive)
     assert [n for n in from_dir if from_dir[n].read_bytes() != from_archive[n].read_bytes()] == []
     assert f"`{run.name}`" in (tmp_path / "from-archive" / "README.md").read_text()
+
+
+# docs/compare.md's cross-machine example: the two committed runs it compares.
+CROSS_MACHINE = ("data/reference-runs/two-core-gpu-machine.tar.xz", "data/reference-runs/gpu-machine.tar.xz")
+
+
+def test_the_cross_machine_example_in_docs_is_compares_output(repo_root, tmp_path):
+    """Every line of the output pasted into docs/compare.md (between its
+    heading and 'How to read it') is a line of what compare writes for the
+    two committed runs today: the example is real and stays so."""
+    from rtbench import compare
+
+    doc = (repo_root / "docs/compare.md").read_text().split("## Worked example: two machines", 1)[1]
+    pasted = doc.split("#### Comparison: new vs base", 1)[1].split("How to read it:", 1)[0]
+    lines = [line for line in pasted.splitlines() if line and not line.startswith("*(")]  # the omission note
+    assert len(lines) > 80
+    base, new = (str(repo_root / run) for run in CROSS_MACHINE)
+    assert compare.main([base, new, "--all-cores", "-o", str(tmp_path), "-q"]) == 0
+    written = set((tmp_path / "compare.md").read_text().splitlines())
+    assert [line for line in lines if line not in written] == []
