@@ -134,7 +134,7 @@ def test_sigterm_stops_the_running_configuration_report_names_the_rest_and_resum
                                                                                             tmp_path):
     done, run_dir, victim = interrupt(repo_root, raytracer, tmp_path, signal.SIGTERM)
     assert done.returncode == 143, done.stderr
-    assert not Path(f"/proc/{victim}").exists(), "the running configuration's process was killed and reaped"
+    wait_for(lambda: not Path(f"/proc/{victim}").exists(), "the running configuration's process to be gone", timeout=10)
     assert raytracers_writing_into(run_dir) == []
     manifest = manifest_of(run_dir)
     assert manifest["status"] == "interrupted" and manifest["interrupted_by"] == "SIGTERM"
@@ -175,7 +175,7 @@ def test_sigterm_stops_the_running_configuration_report_names_the_rest_and_resum
 def test_sigint_marks_the_run_interrupted_by_sigint(repo_root, raytracer, tmp_path):
     done, run_dir, victim = interrupt(repo_root, raytracer, tmp_path, signal.SIGINT)
     assert done.returncode == 130, done.stderr
-    assert not Path(f"/proc/{victim}").exists()
+    wait_for(lambda: not Path(f"/proc/{victim}").exists(), "the running configuration's process to be gone", timeout=10)
     manifest = manifest_of(run_dir)
     assert manifest["status"] == "interrupted" and manifest["interrupted_by"] == "SIGINT"
     assert "Traceback" not in done.stderr
