@@ -393,16 +393,16 @@ def keep_failure(keep: Path, index: int, case: Case, verdict: Verdict) -> None:
 
 def campaign(binary: Path, cases: int, seconds: float, seed: int, jobs: int, timeout: float,
              keep: Path | None) -> dict:
-    rng = random.Random(seed)
-    generated = [make_case(rng) for _ in range(cases)]
     deadline = time.monotonic() + seconds
     summary: dict[str, dict] = {}
     lock = threading.Lock()
 
-    def one(item):
-        index, case = item
+    def one(index: int):
         if time.monotonic() > deadline:
             return
+        # Drawn here, from the seed and the index, not all up front: a case
+        # can hold 100 MB (huge arrays), and each reproduces on its own.
+        case = make_case(random.Random(f"{seed}-{index}"))
         verdict = run_case(binary, case, timeout)
         with lock:
             row = summary.setdefault(case.category, {"cases": 0, "exit_0": 0, "exit_2": 0, "failures": {}})
@@ -417,7 +417,7 @@ def campaign(binary: Path, cases: int, seconds: float, seed: int, jobs: int, tim
                     keep_failure(keep, index, case, verdict)
 
     with ThreadPoolExecutor(max_workers=jobs) as pool:
-        list(pool.map(one, enumerate(generated)))
+        list(pool.map(one, range(cases)))
     return summary
 
 
