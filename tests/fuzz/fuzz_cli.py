@@ -307,12 +307,16 @@ def scene_path(case: Case, work: Path) -> Path:
 
 
 def complete_output(path: Path) -> bool:
+    """Judged by content, not by name: a command line may give a PNG any name."""
     data = path.read_bytes()
-    if path.suffix == ".png":
-        return data.startswith(b"\x89PNG") and data.endswith(b"IEND\xaeB`\x82")
-    if path.suffix == ".json":
+    if data.startswith(b"\x89PNG"):
+        return data.endswith(b"IEND\xaeB`\x82")
+    if data.startswith(b"{"):
         return _is_json(data)
-    rows = list(csv.reader(data.decode().splitlines()))
+    try:
+        rows = list(csv.reader(data.decode().splitlines()))
+    except UnicodeDecodeError:
+        return False
     return data.endswith(b"\n") and len(rows) > 1 and all(len(row) == len(rows[0]) for row in rows)
 
 
@@ -403,7 +407,10 @@ def campaign(binary: Path, cases: int, seconds: float, seed: int, jobs: int, tim
         # Drawn here, from the seed and the index, not all up front: a case
         # can hold 100 MB (huge arrays), and each reproduces on its own.
         case = make_case(random.Random(f"{seed}-{index}"))
-        verdict = run_case(binary, case, timeout)
+        try:
+            verdict = run_case(binary, case, timeout)
+        except Exception as e:  # a driver bug must not end the campaign unreported
+            verdict = Verdict(case.category, None, "driver-error", repr(e))
         with lock:
             row = summary.setdefault(case.category, {"cases": 0, "exit_0": 0, "exit_2": 0, "failures": {}})
             row["cases"] += 1
