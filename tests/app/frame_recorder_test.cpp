@@ -44,8 +44,8 @@ TEST(FrameCsv, HeaderIsTheSchemaColumns) {
 
 TEST(FrameCsv, OneRowPerFrameWithFullPrecision) {
   const std::vector<FrameRecord> records{
-      {.frame = 0, .warmup = true, .updateMs = 0.1, .renderMs = 123.456789012345, .presentMs = 1e-7, .gpuMs = {}},
-      {.frame = 1, .warmup = false, .updateMs = 0.2, .renderMs = 1.0 / 3.0, .presentMs = 2.5, .gpuMs = 0.0625}};
+      {.frame = 0, .warmup = true, .updateMs = 0.1, .renderMs = 123.456789012345, .presentMs = 1e-7, .gpuMs = {}, .acquireMs = {}},
+      {.frame = 1, .warmup = false, .updateMs = 0.2, .renderMs = 1.0 / 3.0, .presentMs = 2.5, .gpuMs = 0.0625, .acquireMs = {}}};
   const auto rows = parseCsv(formatFrameCsv(identity(), records));
   ASSERT_EQ(rows.size(), 3u);
   for (const auto& row : rows) EXPECT_EQ(row.size(), schema::kFrameCsvColumnNames.size());

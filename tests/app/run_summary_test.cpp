@@ -8,7 +8,7 @@ namespace rt {
 namespace {
 
 FrameRecord frame(long long k, bool warmup, double renderMs, std::optional<double> gpuMs = std::nullopt) {
-  return {.frame = k, .warmup = warmup, .updateMs = 0.01, .renderMs = renderMs, .presentMs = 1.0, .gpuMs = gpuMs};
+  return {.frame = k, .warmup = warmup, .updateMs = 0.01, .renderMs = renderMs, .presentMs = 1.0, .gpuMs = gpuMs, .acquireMs = {}};
 }
 
 TEST(RunSummary, MeasuredFramesOnlyWithTheMedianOfAnEvenCount) {
