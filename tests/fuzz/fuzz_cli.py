@@ -330,9 +330,10 @@ def judge(case: Case, done_rc: int | None, stderr: str, out: Path, timed_out: bo
         return fail("sanitizer")
     if done_rc is not None and done_rc < 0:
         return fail("signal", f"signal {-done_rc}")
-    # 3 is the documented "no Vulkan device" (a --present upload or --device
-    # case on a machine without one), not a crash.
-    no_device = done_rc == 3 and "no Vulkan device" in stderr
+    # 3 is the documented "no Vulkan device" or "no window" (a --present
+    # upload, --device or --present window case on a machine without a
+    # device or a display), not a crash.
+    no_device = done_rc == 3 and ("no Vulkan device" in stderr or "no window" in stderr)
     if done_rc not in (0, 2) and not no_device:
         return fail("exit-code", f"exit {done_rc}: {stderr[-2000:]}")
     left = sorted(p.relative_to(out).as_posix() for p in out.rglob("*"))
