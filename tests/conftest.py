@@ -45,3 +45,26 @@ def tracy_raytracer() -> Path:
         if c and Path(c).is_file() and has_tracy_client(Path(c)):
             return Path(c)
     pytest.fail("no raytracer binary with the Tracy client: build the profile preset or set RT_PROFILE_BINARY")
+
+
+@pytest.fixture
+def tmpfs(tmp_path):
+    """mount(name, size): a tmpfs of `size` at tmp_path/name, unmounted after
+    the test; skips the test where mounting is not permitted (not root, or
+    a container without CAP_SYS_ADMIN). The fault tests fill such a file
+    system, or remount it read-only."""
+    mounted = []
+
+    def mount(name: str, size: str) -> Path:
+        path = tmp_path / name
+        path.mkdir()
+        done = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(path)],
+                              capture_output=True, text=True)
+        if done.returncode != 0:
+            pytest.skip(f"cannot mount a tmpfs here ({done.stderr.strip() or done.returncode}): the fault needs one")
+        mounted.append(path)
+        return path
+
+    yield mount
+    for path in reversed(mounted):
+        subprocess.run(["umount", "-l", str(path)], check=False)

@@ -15,7 +15,6 @@ import random
 import signal
 import subprocess
 import time
-from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -57,21 +56,6 @@ def leftovers(out: Path) -> list[Path]:
     return sorted(p for p in out.iterdir() if ".tmp" in p.name)
 
 
-@contextmanager
-def tmpfs(path: Path, size: str):
-    """A tmpfs of `size` at `path`, unmounted afterwards; skips the test where
-    mounting is not permitted (not root, or a container without CAP_SYS_ADMIN)."""
-    path.mkdir()
-    done = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(path)],
-                          capture_output=True, text=True)
-    if done.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs here ({done.stderr.strip() or done.returncode}): the fault needs one")
-    try:
-        yield path
-    finally:
-        subprocess.run(["umount", "-l", str(path)], check=False)
-
-
 def fill(fs: Path, leave_bytes: int) -> None:
     """Fills the file system at `fs` up to `leave_bytes` of free space."""
     import os
@@ -95,35 +79,35 @@ def previous(raytracer, repo_root, tmp_path):
 # Nearly full leaves one page: the metadata (about 3 kB) would fit in it.
 @pytest.mark.parametrize(("target", "free"), [("run.csv", 0), ("run.csv", 6000), ("run.meta.json", 0),
                                               ("frame.png", 0), ("frame.png", 6000)])
-def test_full_file_system_keeps_the_previous_output_and_names_enospc(raytracer, repo_root, tmp_path, previous, free,
-                                                                     target):
+def test_full_file_system_keeps_the_previous_output_and_names_enospc(raytracer, repo_root, tmp_path, tmpfs, previous,
+                                                                     free, target):
     """The output `target` goes to a tmpfs with `free` bytes left, the others
     elsewhere. Large enough not to fit (300 frames: a CSV of tens of kB; a
     256 x 192 frame: a PNG of tens of kB), so the nearly full case fails
     half-way through a write."""
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
-    with tmpfs(tmp_path / "fs", "512k") as fs:
-        before = previous(fs)
-        fill(fs, free)
-        frames, size = (300, (8, 6)) if target == "run.csv" else (1, (256, 192))
-        cmd = command(raytracer, repo_root, elsewhere, frames=frames, size=size, dirs={target: fs})
-        done = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
-        assert done.returncode == 1, done.stderr
-        assert "No space left on device" in done.stderr and target in done.stderr, done.stderr
-        assert len(done.stderr.strip().splitlines()) == 1, done.stderr
-        assert outputs(fs) == before, f"{target} changed"
-        assert leftovers(fs) == []
+    fs = tmpfs("fs", "512k")
+    before = previous(fs)
+    fill(fs, free)
+    frames, size = (300, (8, 6)) if target == "run.csv" else (1, (256, 192))
+    cmd = command(raytracer, repo_root, elsewhere, frames=frames, size=size, dirs={target: fs})
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 1, done.stderr
+    assert "No space left on device" in done.stderr and target in done.stderr, done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert outputs(fs) == before, f"{target} changed"
+    assert leftovers(fs) == []
 
 
-def test_read_only_file_system_keeps_the_previous_outputs(raytracer, repo_root, tmp_path, previous):
-    with tmpfs(tmp_path / "fs", "1m") as fs:
-        before = previous(fs)
-        subprocess.run(["mount", "-o", "remount,ro", str(fs)], check=True)
-        done = subprocess.run(command(raytracer, repo_root, fs), capture_output=True, text=True, timeout=120)
-        assert done.returncode == 1, done.stderr
-        assert "Read-only file system" in done.stderr, done.stderr
-        assert outputs(fs) == before
+def test_read_only_file_system_keeps_the_previous_outputs(raytracer, repo_root, tmpfs, previous):
+    fs = tmpfs("fs", "1m")
+    before = previous(fs)
+    subprocess.run(["mount", "-o", "remount,ro", str(fs)], check=True)
+    done = subprocess.run(command(raytracer, repo_root, fs), capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1, done.stderr
+    assert "Read-only file system" in done.stderr, done.stderr
+    assert outputs(fs) == before
 
 
 def test_a_path_below_a_file_is_bad_input_and_writes_nothing(raytracer, repo_root, tmp_path):
