@@ -1,6 +1,5 @@
 #include "gpu/frame_upload.h"
 
-#include <cstring>
 #include <stdexcept>
 
 #include "gpu/context.h"
@@ -44,9 +43,7 @@ void FrameUpload::present(std::span<const Rgba8> frame) {
   Resources& r = prepared();
   if (frame.size() != r.extent.pixelCount()) throw std::logic_error("FrameUpload: frame size differs from the extent");
   translateVulkanErrors("present", [&] {
-    std::memcpy(r.staging.mapped().data(), frame.data(), frame.size_bytes());
-    // Host writes before the submission need no barrier; non-coherent memory needs a flush.
-    r.staging.flushHostWrites();
+    copyFromFrame(frame, r.staging);
     r.runner.run("present", [&](const vk::raii::CommandBuffer& cb) { r.presentImage.recordCopyFrom(cb, r.staging.handle()); });
   });
 }

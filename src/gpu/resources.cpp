@@ -141,6 +141,11 @@ void copyToImage(const Buffer& buffer, Image& target) {
   std::memcpy(target.pixels().data(), bytes.data(), bytes.size());
 }
 
+void copyFromFrame(std::span<const Rgba8> frame, const Buffer& buffer) {
+  std::memcpy(buffer.mapped().data(), frame.data(), frame.size_bytes());
+  buffer.flushHostWrites();
+}
+
 // CommandRunner ===============================================================
 
 CommandRunner::CommandRunner(const Device& device)

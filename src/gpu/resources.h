@@ -78,6 +78,10 @@ vk::DeviceSize frameBytes(Extent extent);
 // Copies the host-visible `buffer` (after invalidateForHost) into `target`.
 void copyToImage(const Buffer& buffer, Image& target);
 
+// The reverse: a frame's pixels into the host-visible `buffer`, flushed for
+// the device (host writes before a submission need no barrier).
+void copyFromFrame(std::span<const Rgba8> frame, const Buffer& buffer);
+
 // One command buffer and one fence: record, submit, wait. Every phase waits
 // for its own work, so nothing is in flight when a phase returns and one
 // command buffer serves all of them.

@@ -1,6 +1,5 @@
 #include "gpu/swapchain_upload.h"
 
-#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -69,8 +68,7 @@ void SwapchainUpload::present(std::span<const Rgba8> frame) {
     swapchain_->present(r.frame.handle(), r.extent, [&](const vk::raii::CommandBuffer& cb, std::uint32_t slot) {
       // The slot's fence has signalled: its last copy out of this buffer is done.
       const Buffer& staging = r.staging[slot];
-      std::memcpy(staging.mapped().data(), frame.data(), frame.size_bytes());
-      staging.flushHostWrites();  // host writes before the submission need no barrier
+      copyFromFrame(frame, staging);
       // The previous frame's blit out of the image (an earlier submission) is done before it is overwritten.
       imageBarrier(cb, r.frame.handle(), {Stage::eTransfer, {}, Layout::eUndefined},
                    {Stage::eTransfer, Access::eTransferWrite, Layout::eTransferDstOptimal});
@@ -87,8 +85,7 @@ void SwapchainUpload::readBack(Image& target) {
   const Resources& r = prepared();
   if (target.extent() != r.extent) throw std::logic_error("SwapchainUpload: target extent differs");
   if (!r.presented) throw std::logic_error("SwapchainUpload: no frame presented yet");
-  const std::span<const std::byte> bytes = r.staging[r.lastSlot].mapped().first(frameBytes(r.extent));
-  std::memcpy(target.pixels().data(), bytes.data(), bytes.size());
+  copyToImage(r.staging[r.lastSlot], target);
 }
 
 }  // namespace rt::gpu

@@ -106,8 +106,7 @@ HWY_INLINE void NearestSphereInBvh(D d, const SphereArrays& s, const RayX<D>& ra
   const Vec3x<D> inverse = InverseDirection(d, ray.direction);
   const VecF<D> pad = TraversalPad(d, bvh, ray.origin);
   const auto activeSum = [&](VecF<D> c) { return hn::GetLane(hn::SumOfLanes(d, hn::IfThenElseZero(active, c))); };
-  const float direction[3] = {activeSum(ray.direction.x), activeSum(ray.direction.y),
-                                   activeSum(ray.direction.z)};
+  const float direction[3] = {activeSum(ray.direction.x), activeSum(ray.direction.y), activeSum(ray.direction.z)};
   std::uint32_t stack[kBvhMaxDepth + 2];
   int top = 0;
   stack[top++] = 0;
