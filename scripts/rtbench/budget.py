@@ -37,14 +37,9 @@ def frame_ms(frames: pd.DataFrame) -> pd.Series:
     return frames[names.PHASE_MS].sum(axis=1, min_count=len(names.PHASE_MS))
 
 
-def _finite(values) -> np.ndarray:
-    x = np.asarray(values, dtype=float)
-    return x[np.isfinite(x)]
-
-
 def share_over(values, budget_ms: float) -> float:
     """The fraction of frames slower than the budget; NaN without frames."""
-    x = _finite(values)
+    x = stats.finite(values)
     return float(np.mean(x > budget_ms)) if x.size else math.nan
 
 
@@ -59,7 +54,7 @@ def longest_run_over(values, budget_ms: float) -> int:
 
 def consecutive_differences(values) -> np.ndarray:
     """|x[i+1] - x[i]| of a series in frame order."""
-    return np.abs(np.diff(_finite(values)))
+    return np.abs(np.diff(stats.finite(values)))
 
 
 def jitter(series: list) -> float:
@@ -81,7 +76,7 @@ def run_column(budget_ms: float) -> str:
 def budget_stats(series: list, budgets_ms) -> dict[str, float]:
     """Every budget statistic of one configuration, from its runs' measured
     frame times, each series in frame order."""
-    pooled = np.concatenate([_finite(s) for s in series]) if series else np.array([])
+    pooled = np.concatenate([stats.finite(s) for s in series]) if series else np.array([])
     row = {"n": int(pooled.size), "median": stats.median(pooled), "p99": stats.percentile(pooled, 99),
            "max": float(pooled.max()) if pooled.size else math.nan, "jitter": jitter(series)}
     for budget in budgets_ms:

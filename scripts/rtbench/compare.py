@@ -111,32 +111,24 @@ class Comparison:
 
 # --- statistics: pure functions ------------------------------------------------
 
-def _finite(values) -> np.ndarray:
-    x = np.asarray(values, dtype=float)
-    return x[np.isfinite(x)]
-
-
 def ratio_ci(base, new, confidence: float = stats.CONFIDENCE, resamples: int = stats.BOOTSTRAP_RESAMPLES,
              seed: int = stats.BOOTSTRAP_SEED) -> tuple[float, float]:
     """Percentile-bootstrap CI of median(new) / median(base), each side
     resampled on its own; seeded, so the same data give the same interval."""
-    b, n = _finite(base), _finite(new)
+    b, n = stats.finite(base), stats.finite(new)
     if b.size == 0 or n.size == 0:
         return (math.nan, math.nan)
-    rng = np.random.default_rng(seed)
-    base_medians = np.median(b[rng.integers(0, b.size, size=(resamples, b.size))], axis=1)
-    new_medians = np.median(n[rng.integers(0, n.size, size=(resamples, n.size))], axis=1)
+    rng = np.random.default_rng(seed)  # one generator: base's resamples, then new's
+    base_medians = stats.resampled_medians(b, rng, resamples)
+    new_medians = stats.resampled_medians(n, rng, resamples)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratios = new_medians / base_medians
-    tail = (1.0 - confidence) / 2.0 * 100.0
-    lo, hi = np.percentile(ratios, [tail, 100.0 - tail])
-    return (float(lo), float(hi))
+        return stats.percentile_interval(new_medians / base_medians, confidence)
 
 
 def mann_whitney_p(base, new) -> float:
     """Two-sided Mann-Whitney U test p-value; 1 where the two sets cannot be
     told apart at all (every value equal), NaN without data."""
-    b, n = _finite(base), _finite(new)
+    b, n = stats.finite(base), stats.finite(new)
     if b.size == 0 or n.size == 0:
         return math.nan
     if np.ptp(np.concatenate([b, n])) == 0:
@@ -155,7 +147,7 @@ def verdict(ratio: float, ci: tuple[float, float], p: float, alpha: float, noise
 
 
 def geometric_mean(ratios) -> float:
-    x = _finite(ratios)
+    x = stats.finite(ratios)
     x = x[x > 0]
     return float(np.exp(np.mean(np.log(x)))) if x.size else math.nan
 
@@ -166,7 +158,7 @@ def compare_values(base, new, options: Options) -> dict:
     ratio = mn / mb if mb > 0 and math.isfinite(mn) else math.nan
     ci = ratio_ci(base, new)
     p = mann_whitney_p(base, new)
-    return {"base_n": int(_finite(base).size), "new_n": int(_finite(new).size), "base_median": mb,
+    return {"base_n": int(stats.finite(base).size), "new_n": int(stats.finite(new).size), "base_median": mb,
             "new_median": mn, "ratio": ratio, "ci_low": ci[0], "ci_high": ci[1], "p_value": p,
             "verdict": verdict(ratio, ci, p, options.alpha, options.noise)}
 

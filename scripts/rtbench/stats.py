@@ -27,25 +27,38 @@ CONFIDENCE = 0.95
 CONFIG_KEYS = names.CONFIG_KEYS
 
 
-def _array(values) -> np.ndarray:
+def finite(values) -> np.ndarray:
+    """The finite values, as floats."""
     x = np.asarray(values, dtype=float)
     return x[np.isfinite(x)]
 
 
+def resampled_medians(x: np.ndarray, rng: np.random.Generator, resamples: int = BOOTSTRAP_RESAMPLES) -> np.ndarray:
+    """The medians of `resamples` bootstrap resamples of `x` (with replacement)."""
+    return np.median(x[rng.integers(0, x.size, size=(resamples, x.size))], axis=1)
+
+
+def percentile_interval(samples: np.ndarray, confidence: float = CONFIDENCE) -> tuple[float, float]:
+    """The central `confidence` interval of bootstrap `samples`."""
+    tail = (1.0 - confidence) / 2.0 * 100.0
+    lo, hi = np.percentile(samples, [tail, 100.0 - tail])
+    return (float(lo), float(hi))
+
+
 def median(values) -> float:
-    x = _array(values)
+    x = finite(values)
     return float(np.median(x)) if x.size else math.nan
 
 
 def mad(values) -> float:
     """Median absolute deviation from the median (raw, not scaled to sigma)."""
-    x = _array(values)
+    x = finite(values)
     return float(np.median(np.abs(x - np.median(x)))) if x.size else math.nan
 
 
 def percentile(values, q: float) -> float:
     """The q-th percentile with linear interpolation (numpy's default)."""
-    x = _array(values)
+    x = finite(values)
     return float(np.percentile(x, q)) if x.size else math.nan
 
 
@@ -53,16 +66,12 @@ def bootstrap_median_ci(values, confidence: float = CONFIDENCE, resamples: int =
                         seed: int = BOOTSTRAP_SEED) -> tuple[float, float]:
     """Percentile-bootstrap confidence interval of the median. Seeded, so the
     same data always give the same interval (reports are reproducible)."""
-    x = _array(values)
+    x = finite(values)
     if x.size == 0:
         return (math.nan, math.nan)
     if x.size == 1:
         return (float(x[0]), float(x[0]))
-    rng = np.random.default_rng(seed)
-    medians = np.median(x[rng.integers(0, x.size, size=(resamples, x.size))], axis=1)
-    tail = (1.0 - confidence) / 2.0 * 100.0
-    lo, hi = np.percentile(medians, [tail, 100.0 - tail])
-    return (float(lo), float(hi))
+    return percentile_interval(resampled_medians(x, np.random.default_rng(seed), resamples), confidence)
 
 
 def modified_z_scores(values) -> np.ndarray:
@@ -88,7 +97,7 @@ def outlier_mask(values, limit: float = OUTLIER_LIMIT) -> np.ndarray:
 
 def summarize(values, seed: int = BOOTSTRAP_SEED) -> dict[str, float]:
     """Every statistic the report shows for one set of frame times."""
-    x = _array(values)
+    x = finite(values)
     lo, hi = bootstrap_median_ci(x, seed=seed)
     return {
         "n": int(x.size),
@@ -146,7 +155,7 @@ def summarize_configs(frames: pd.DataFrame, value: str = names.RENDER_MS) -> pd.
 
 def coefficient_of_variation(values) -> float:
     """Sample standard deviation / mean; NaN for fewer than two values."""
-    x = _array(values)
+    x = finite(values)
     if x.size < 2 or x.mean() == 0:
         return math.nan
     return float(x.std(ddof=1) / x.mean())
