@@ -66,6 +66,20 @@ step() {
   return "$status"
 }
 
+# step_summary LABEL REGEX COMMAND...: a step that also prints, on success,
+# the last line of its output matching REGEX (a test run's tally) and its
+# wall time; returns the command's exit status.
+step_summary() {
+  local label=$1 regex=$2 start=$SECONDS status=0 summary
+  shift 2
+  step "$label" "$@" || status=$?
+  if [ "$status" -eq 0 ]; then
+    summary="$(grep -E "$regex" "$(step_log "$label")" | tail -n 1 || true)"
+    step_say "$label: ${summary:-done} ($((SECONDS - start)) s)"
+  fi
+  return "$status"
+}
+
 # build_step PRESET [cmake --build ARGS...]: builds a preset with a progress
 # line every 10 %; returns the build's exit status.
 build_step() {
