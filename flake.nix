@@ -34,15 +34,30 @@
         in
         builtins.head matches;
 
+      # The project's one list of dependencies (also read by scripts/setup-debian
+      # and tests/test_dependencies.py): a table per dependency with its role and
+      # its nixpkgs attributes, space-separated, "" for none.
+      dependencies = builtins.fromTOML (builtins.readFile ./dependencies.toml);
+      words = text: builtins.filter (w: builtins.isString w && w != "") (builtins.split " +" text);
+      nixNamesOfRole = role:
+        builtins.concatMap (dep: words dep.nix) (builtins.filter (dep: dep.role == role) (builtins.attrValues dependencies));
+
       perSystem = system: pkgs:
         let
-          python = pkgs.python3.withPackages (ps: [ ps.pandas ps.matplotlib ps.rich ps.pytest ]);
-          tracyClientDir = "${pkgs.tracy.src}/public";
-          validationLayers = "${pkgs.vulkan-validation-layers}/share/vulkan/explicit_layer.d";
+          # A nixpkgs attribute path of the list ("xorg.libXtst") as a package.
+          attrOf = path: builtins.foldl' (set: name: set.${name}) pkgs (lib.splitString "." path);
+          packagesOfRole = role: map attrOf (nixNamesOfRole role);
+          # The one package of a named entry of the list.
+          packageOf = name: attrOf dependencies.${name}.nix;
+
+          stdenv = packageOf "compiler";
+          python = (packageOf "python").withPackages (ps: map (name: ps.${name}) (nixNamesOfRole "python"));
+          tracyClientDir = "${(packageOf "tracy").src}/public";
+          validationLayers = "${packageOf "vulkan-validation-layers"}/share/vulkan/explicit_layer.d";
 
           # Vulkan through the pinned Mesa's lavapipe only, whatever GPU driver
           # the host has: the loader sees no other driver and no implicit layer.
-          lvpIcd = "${pkgs.mesa}/share/vulkan/icd.d/lvp_icd.${icdArch.${system}}.json";
+          lvpIcd = "${packageOf "lavapipe"}/share/vulkan/icd.d/lvp_icd.${icdArch.${system}}.json";
           lavapipeEnv = {
             VK_DRIVER_FILES = lvpIcd;
             VK_ICD_FILENAMES = lvpIcd; # the name loaders before 1.3.207 read
@@ -58,29 +73,18 @@
 
           # A configure preset of CMakePresets.json, built, tested and installed.
           mkRaytracer = { preset, pname, tests ? true }:
-            pkgs.gcc14Stdenv.mkDerivation {
+            stdenv.mkDerivation {
               inherit pname version;
               src = self;
 
-              nativeBuildInputs = [ pkgs.cmake pkgs.ninja pkgs.pkg-config pkgs.glslang pkgs.makeWrapper ];
-              # bash and python: patchShebangs points the installed scripts at them;
-              # python also runs pytest in checkPhase.
-              buildInputs = [
-                pkgs.bash
-                pkgs.glm
-                pkgs.nlohmann_json
-                pkgs.cli11
-                pkgs.stb
-                pkgs.onetbb
-                pkgs.libhwy
-                pkgs.vulkan-headers
-                pkgs.vulkan-loader
-                pkgs.glfw # the live window (--window, RT_WINDOW=ON)
-                python
-              ] ++ lib.optionals tests [ pkgs.gtest ];
-              # The window tests (tests/window) run under their own Xvfb and
-              # read the X display with xwininfo, xwd and ImageMagick.
-              nativeCheckInputs = [ pkgs.xorg.xorgserver pkgs.xorg.xwininfo pkgs.xorg.xwd pkgs.imagemagick ];
+              nativeBuildInputs = packagesOfRole "build";
+              # The libraries (bash among them: patchShebangs points the installed
+              # scripts at it) and python, which patchShebangs also uses and which
+              # runs pytest in checkPhase.
+              buildInputs = packagesOfRole "library" ++ [ python ] ++ lib.optionals tests (packagesOfRole "test-library");
+              # The programs the tests run: the window tests' Xvfb, xwininfo, xwd
+              # and ImageMagick, ss for the loopback test.
+              nativeCheckInputs = packagesOfRole "check";
 
               # The preset itself (generator, build type, flags, build/<preset>),
               # plus the install prefix, nixpkgs' Tracy client sources (used
@@ -90,8 +94,8 @@
               configurePhase = ''
                 runHook preConfigure
                 cmake --preset ${preset} -DCMAKE_INSTALL_PREFIX=$out \
-                  -DRT_BUILD_TESTS=${if tests then "ON" else "OFF"} -DRT_TRACY_CLIENT_DIR=${tracyClientDir} -DRT_WINDOW=ON \
-                  -DRT_VULKAN_LOADER=${pkgs.vulkan-loader}/lib/libvulkan.so.1
+                  -DRT_BUILD_TESTS=${if tests then "ON" else "OFF"} -DRT_TRACY_CLIENT_DIR=${tracyClientDir} -DRT_WINDOW=ON -DRT_EMBREE=ON \
+                  -DRT_VULKAN_LOADER=${packageOf "vulkan-loader"}/lib/libvulkan.so.1
                 cd build/${preset}
                 runHook postConfigure
               '';
@@ -105,7 +109,7 @@
                 export HOME=$TMPDIR
                 ctest --output-on-failure -j $NIX_BUILD_CORES
                 # libX11 and libXtst for the window tests' resize and key press (ctypes).
-                LD_LIBRARY_PATH=${pkgs.xorg.libX11}/lib:${pkgs.xorg.libXtst}/lib \
+                LD_LIBRARY_PATH=${lib.concatStringsSep ":" (map (p: "${p}/lib") (packagesOfRole "check-dlopen"))} \
                 RT_BINARY=$PWD/raytracer RT_PYTHON=${python}/bin/python3 \
                   ${python}/bin/python3 -m pytest -p no:cacheprovider ../../tests
                 runHook postCheck
@@ -157,16 +161,11 @@
 
           apps = builtins.mapAttrs (_: wrapper: { type = "app"; program = lib.getExe wrapper; }) wrappers;
 
-          devShells.default = (pkgs.mkShell.override { stdenv = pkgs.gcc14Stdenv; }) {
+          devShells.default = (pkgs.mkShell.override { inherit stdenv; }) {
             inputsFrom = [ raytracer ];
-            packages = [
-              pkgs.tracy # tracy (GUI), tracy-capture, tracy-csvexport
-              pkgs.vulkan-tools
-              pkgs.vulkan-validation-layers
-              pkgs.clang-tools
-              pkgs.git
-              python
-            ];
+            # tracy (GUI, tracy-capture, tracy-csvexport), vulkan-tools, the
+            # validation layers, clang-tools, git; the tests' programs.
+            packages = packagesOfRole "develop" ++ packagesOfRole "runtime" ++ packagesOfRole "check" ++ [ python ];
             env = nixEnv // {
               RT_PYTHON = "${python}/bin/python3";
               # cmake --preset profile builds nixpkgs' Tracy client (cmake/Tracy.cmake).
@@ -187,8 +186,7 @@
               for f in scripts/*; do
                 if [ -f "$f" ]; then case "$(head -n1 "$f")" in *bash*) bash -n "$f" ;; esac; fi
               done
-              # Python files, except the bash ones named .py (scripts/report.py), checked above.
-              python3 -c 'import ast, pathlib, sys; [ast.parse(p.read_text(), str(p)) for d in sys.argv[1:] for p in pathlib.Path(d).rglob("*.py") if "bash" not in p.read_text().partition("\n")[0]]' scripts tests
+              python3 -c 'import ast, pathlib, sys; [ast.parse(p.read_text(), str(p)) for d in sys.argv[1:] for p in pathlib.Path(d).rglob("*.py")]' scripts tests
               touch $out
             '';
             # The app wrappers (writeShellApplication runs shellcheck on them).

@@ -203,3 +203,23 @@ def test_dev_shell_has_the_tools_and_lavapipe(nix, flake):
         assert shell["RT_TRACY_CLIENT_DIR"].endswith("-source/public")
         assert shell["RT_NIX"] == "1"
         assert {"tracy-0.11.1", "vulkan-tools", "vulkan-validation-layers", "clang-tools"} <= set(shell["packages"])
+
+
+def test_the_package_and_its_python_have_every_dependency_of_the_list(nix, flake, repo_root):
+    """dependencies.toml reaches the Nix build: each library, test library and
+    program the tests run is an input of the package, and each Python package
+    of the list (scipy among them) is in the Python that runs the report and pytest."""
+    import tomllib
+
+    deps = tomllib.loads((repo_root / "dependencies.toml").read_text()).values()
+    package = evaluate(nix, flake, "packages.x86_64-linux.default",
+                       "p: { inputs = map (d: d.name) (p.buildInputs ++ p.nativeBuildInputs ++ p.nativeCheckInputs);"
+                       " python = map (d: d.name) (builtins.head (builtins.filter (d: d ? packages) p.buildInputs)).packages; }")
+    for dep in deps:
+        for attr in dep["nix"].split():
+            name = attr.rpartition(".")[2]
+            if dep["role"] in {"build", "library", "test-library", "check"}:
+                assert any(n == name or n.startswith(f"{name}-") for n in package["inputs"]), attr
+            elif dep["role"] == "python":
+                assert f"python3.13-{name}" in package["python"], attr
+    assert "python3.13-scipy" in package["python"]

@@ -8,6 +8,10 @@ rec {
 
   inherit (builtins) concatStringsSep;
 
+  # Like nixpkgs' for a one-character separator: the parts between them.
+  splitString = sep: text: builtins.filter builtins.isString (builtins.split (escapeRegex sep) text);
+  escapeRegex = builtins.replaceStrings [ "." "+" "*" "?" "[" "]" "(" ")" "{" "}" "|" "^" "$" "\\" ] [ "\\." "\\+" "\\*" "\\?" "\\[" "\\]" "\\(" "\\)" "\\{" "\\}" "\\|" "\\^" "\\$" "\\\\" ];
+
   optionals = cond: list: if cond then list else [ ];
 
   optionalString = cond: string: if cond then string else "";

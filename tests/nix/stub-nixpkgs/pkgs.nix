@@ -20,7 +20,7 @@ let
 
   gcc14Stdenv = { mkDerivation = mkDerivation; };
 
-  pythonPackageNames = [ "pandas" "matplotlib" "rich" "pytest" ];
+  pythonPackageNames = [ "pandas" "numpy" "matplotlib" "scipy" "rich" "pytest" ];
   pythonPackages = lib.genAttrs pythonPackageNames (name: package "python3.13-${name}");
 in
 lib.genAttrs [
@@ -45,6 +45,8 @@ lib.genAttrs [
   "clang-tools"
   "git"
   "glfw"
+  "embree"
+  "iproute2"
   "imagemagick"
 ] package // {
   inherit gcc14Stdenv;
