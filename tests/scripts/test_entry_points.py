@@ -5,10 +5,11 @@ import ast
 import os
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import pytest
-from rtbench import cli, interpreter
+from rtbench import bench, cli, interpreter, report_writer
 from synthetic_runs import SyntheticConfig, write_run_dir
 
 WRAPPERS = {"bench": "scripts/bench", "report": "scripts/report.py", "compare": "scripts/compare.py",
@@ -246,3 +247,40 @@ def test_each_script_looks_for_the_modules_its_command_imports(command):
 def test_the_bench_needs_what_it_and_its_report_import():
     needed = imported_modules("rtbench.bench") | imported_modules(cli.COMMANDS["report"].module)
     assert set(cli.COMMANDS["bench"].needs) == needed
+
+
+# --- the bench runner's report, in its own process ---------------------------------------------------
+
+def test_the_bench_reports_in_process(run_dir, tmp_path, capsys):
+    out = tmp_path / "report"
+    assert bench.run_report(run_dir, out) == 0
+    assert f"report: {out / 'README.md'}" in capsys.readouterr().out
+    assert (out / "README.md").is_file()
+
+
+def test_a_failing_report_keeps_the_run_and_says_how_to_retry(run_dir, tmp_path, capsys, monkeypatch):
+    """A report that raises (patched here, which only reaches a report made
+    in this process) fails the bench clearly: the traceback, the way to make
+    it again, exit status 1, and the run directory untouched."""
+    before = sorted((p.relative_to(run_dir), p.read_bytes()) for p in run_dir.rglob("*") if p.is_file())
+
+    def broken(*args):
+        raise RuntimeError("the report broke")
+
+    monkeypatch.setattr(report_writer, "write", broken)
+    args = types.SimpleNamespace(no_report=False, report_dir=tmp_path / "report")
+    manifest = types.SimpleNamespace(counts=lambda: {"ok": 4})
+    assert bench.finish(args, manifest, run_dir, completed=True) == 1
+    err = capsys.readouterr().err
+    assert "RuntimeError: the report broke" in err
+    assert f"bench: the report failed (exit status 1); the runs are kept in {run_dir}." in err
+    assert f"bench: report them with: scripts/report.py {run_dir}" in err
+    assert sorted((p.relative_to(run_dir), p.read_bytes()) for p in run_dir.rglob("*") if p.is_file()) == before
+
+
+def test_bad_run_data_fails_the_bench_report_with_the_reports_message(tmp_path, capsys):
+    broken = tmp_path / "run"
+    broken.mkdir()
+    assert bench.run_report(broken, tmp_path / "report") == 1
+    err = capsys.readouterr().err
+    assert err.startswith("report.py: ") and f"scripts/report.py {broken}" in err
