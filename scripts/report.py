@@ -1,15 +1,17 @@
-#!/usr/bin/env bash
-# scripts/report.py RUN_DIR... [-o DIR]: the report of benchmark runs, the
-# same as `python3 -m rtbench report` (the code:
-# scripts/rtbench/report_writer.py; `scripts/report.py --help` lists the
-# options).
-#
-# A bash script despite its name, which stays for the command the README,
-# the Nix app and the bench runner's messages give. The report needs pandas
-# and matplotlib, and the one place that picks the Python that has them is
-# scripts/lib/python.sh ($RT_PYTHON, else Debian's /usr/bin/python3 even when
-# another python3 comes first on PATH), as for scripts/bench. So run it as a
-# command, not as `python3 scripts/report.py`.
-set -euo pipefail
-source "$(dirname "$0")/lib/python.sh"
-rtbench report "$@"
+#!/usr/bin/env python3
+"""scripts/report.py RUN_DIR... [-o DIR]: the report of benchmark runs (or of
+committed run archives), the same as `python3 -m rtbench report` (the code:
+rtbench/report_writer.py; `--help` lists the options).
+
+`python3 scripts/report.py ...` works as well as `scripts/report.py ...`.
+The report needs pandas, numpy and matplotlib: when the python3 that starts
+it lacks them, it runs under $RT_PYTHON, else Debian's /usr/bin/python3,
+instead, or says what is missing and how to get it (rtbench/interpreter.py).
+"""
+
+import sys
+
+from rtbench import cli  # scripts/ is sys.path[0]: this file's directory; cli needs the standard library alone
+
+if __name__ == "__main__":
+    sys.exit(cli.script("report", __file__, sys.argv[1:]))

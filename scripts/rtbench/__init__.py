@@ -1,11 +1,13 @@
 """rtbench: the benchmark kit's Python package, with one way in:
 
-    python3 -m rtbench bench|report|gen-scene [ARGS]   (scripts/ on PYTHONPATH)
+    python3 -m rtbench bench|report|compare|gen-scene [ARGS]   (scripts/ on PYTHONPATH)
 
 which the commands of scripts/ wrap: `scripts/bench`, `scripts/report.py`,
-`scripts/gen_scene.py` (see rtbench.cli). Small modules of pure functions:
+`scripts/compare.py`, `scripts/gen_scene.py` (see rtbench.cli). Small
+modules of pure functions:
 
-- cli:           the command dispatcher (`python3 -m rtbench`)
+- cli:           the command dispatcher (`python3 -m rtbench`, the scripts of scripts/)
+- interpreter:   the Python scripts of scripts/ run under a Python that has their packages (stdlib only)
 - schema:        reads schema/rt_schema.json, the one source of truth of names
 - names:         the names the package relies on, all taken from the schema
 - atomic:        temp-file + rename writers (nothing is ever half-written)

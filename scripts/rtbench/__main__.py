@@ -1,4 +1,4 @@
-"""`python3 -m rtbench bench|report|gen-scene [ARGS]`: see rtbench.cli."""
+"""`python3 -m rtbench bench|report|compare|gen-scene [ARGS]`: see rtbench.cli."""
 
 import sys
 

@@ -30,15 +30,14 @@ import argparse
 import json
 import os
 import signal
-import subprocess
 import sys
 import time
+import traceback
 from pathlib import Path
 
 from rtbench import names, noise, profiles, runner
 from rtbench.profiles import ProfileError
 
-REPORT_SCRIPT = names.REPO_ROOT / "scripts" / "report.py"
 DEFAULT_PROFILE = "paper"
 
 
@@ -71,7 +70,7 @@ def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespac
                    help="where run directories go (default: runs/ in the repository, or in the current directory "
                         "when the repository is read-only, as in the Nix store)")
     p.add_argument("--report-dir", type=Path, help="report output (default: RUN_DIR/report)")
-    p.add_argument("--no-report", action="store_true", help="do not call scripts/report.py at the end")
+    p.add_argument("--no-report", action="store_true", help="do not make the report (scripts/report.py) at the end")
     p.add_argument("--dry-run", action="store_true", help="print the schedule and exit")
     p.add_argument("--plain", action="store_true", help="plain progress lines even on a terminal")
     p.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1, help="build parallelism (default: all cores)")
@@ -190,9 +189,27 @@ def spread_warnings(run_dir: Path) -> list[str]:
 
 
 def run_report(run_dir: Path, report_dir: Path) -> int:
-    """Runs the report command (scripts/report.py) as its own process, under this interpreter."""
-    env = {**os.environ, "RT_PYTHON": sys.executable}
-    return subprocess.run([str(REPORT_SCRIPT), str(run_dir), "-o", str(report_dir)], env=env).returncode
+    """The report of the run, in this process: the report command as
+    scripts/report.py runs it (this Python has its packages: the bench needs
+    them too). Its exit status; a report that fails, even by an exception,
+    says so and how to make it again, and leaves the run directory as it is."""
+    from rtbench import cli
+
+    try:
+        status = cli.run("report", [str(run_dir), "-o", str(report_dir)])
+    except KeyboardInterrupt:
+        print(f"bench: the report was interrupted; the runs are kept in {run_dir}.\n"
+              f"bench: report them with: scripts/report.py {run_dir}", file=sys.stderr)
+        return 130
+    except SystemExit as e:  # argparse's way out
+        status = e.code if isinstance(e.code, int) else 1
+    except Exception:  # a bug in the report: its traceback, then the way to retry
+        traceback.print_exc()
+        status = 1
+    if status != 0:
+        print(f"bench: the report failed (exit status {status}); the runs are kept in {run_dir}.\n"
+              f"bench: report them with: scripts/report.py {run_dir}", file=sys.stderr)
+    return status
 
 
 def main(argv: list[str] | None = None, prog: str = "bench") -> int:
@@ -348,7 +365,8 @@ def finish(args, manifest: runner.Manifest, run_dir: Path, completed: bool) -> i
               f"bench: report what finished with: scripts/report.py {run_dir}", file=sys.stderr)
         return 128 + signal.Signals[manifest.interrupted_by].value
     if counts.get(runner.OK) and not args.no_report:
-        if run_report(run_dir, args.report_dir or run_dir / "report") != 0:
-            return 1
+        status = run_report(run_dir, args.report_dir or run_dir / "report")
+        if status != 0:
+            return 130 if status == 130 else 1
     return 1 if counts.get(runner.FAILED) or not counts.get(runner.OK) else 0
 

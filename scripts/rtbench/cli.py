@@ -8,7 +8,10 @@ PYTHONPATH), which the commands of scripts/ wrap:
 
 `python3 -m rtbench COMMAND --help` lists a command's options. A command's
 module is imported only when it runs: gen-scene needs the standard library
-alone, bench and report need pandas, matplotlib and rich, compare also scipy.
+alone, the others pandas & co. (Command.needs). This module needs the
+standard library alone too, so the Python scripts of scripts/ start with it
+and move to a Python that has a command's packages (rtbench.interpreter)
+before they import any.
 """
 
 from __future__ import annotations
@@ -17,19 +20,28 @@ import importlib
 import sys
 from dataclasses import dataclass
 
+from rtbench import interpreter
+
 
 @dataclass(frozen=True)
 class Command:
     module: str  # has main(argv, prog) -> exit status
     prog: str  # the name its usage and messages give: that of its wrapper in scripts/
     summary: str
+    # The modules outside the standard library that the command imports, at
+    # once or later (tests/scripts/test_entry_points.py checks the list):
+    # interpreter.ensure looks for them before the command starts.
+    needs: tuple[str, ...] = ()
 
 
 COMMANDS = {
-    "bench": Command("rtbench.bench", "bench", "run a benchmark profile, then report on it (scripts/bench)"),
-    "report": Command("rtbench.report_writer", "report.py", "the report of finished runs (scripts/report.py)"),
+    "bench": Command("rtbench.bench", "bench", "run a benchmark profile, then report on it (scripts/bench)",
+                     ("numpy", "pandas", "matplotlib", "rich")),
+    "report": Command("rtbench.report_writer", "report.py", "the report of finished runs (scripts/report.py)",
+                      ("numpy", "pandas", "matplotlib")),
     "compare": Command("rtbench.compare", "compare.py", "compare two sets of runs: faster, slower or ~ per "
-                                                        "configuration (scripts/compare.py)"),
+                                                        "configuration (scripts/compare.py)",
+                       ("numpy", "pandas", "scipy", "matplotlib", "rich")),
     "gen-scene": Command("rtbench.scenes", "gen_scene.py", "write the committed scenes, or a random one "
                                                            "(scripts/gen_scene.py)"),
 }
@@ -43,12 +55,22 @@ def usage() -> str:
 
 def missing_module(prog: str, error: ModuleNotFoundError) -> str:
     """What to do when this interpreter lacks a package the command needs.
-    The commands of scripts/ pick the interpreter (scripts/lib/python.sh);
-    `python3 -m rtbench` runs under whichever Python started it."""
+    `python3 -m rtbench` runs under whichever Python started it; the
+    commands of scripts/ switch to the one that has the packages
+    (rtbench.interpreter, scripts/lib/python.sh)."""
     return (f"{prog}: this Python ({sys.executable}) has no module {error.name!r}. Run the command through "
-            "scripts/ (scripts/bench, scripts/report.py), which runs $RT_PYTHON, else Debian's /usr/bin/python3 "
-            "(scripts/setup-debian installs pandas, matplotlib and rich for it), or start it with such a Python: "
-            "PYTHONPATH=scripts /usr/bin/python3 -m rtbench ...")
+            "scripts/ (scripts/bench, scripts/report.py, scripts/compare.py), which runs under $RT_PYTHON, else "
+            "Debian's /usr/bin/python3 (scripts/setup-debian installs pandas, matplotlib, scipy and rich for it), "
+            "or start it with such a Python: PYTHONPATH=scripts /usr/bin/python3 -m rtbench ...")
+
+
+def script(name: str, path: str, argv: list[str]) -> int:
+    """A command run as one of the Python scripts of scripts/ (`path`):
+    under a Python that has the modules it needs (interpreter.ensure, which
+    may start `path` again under another Python), then as run() runs it."""
+    command = COMMANDS[name]
+    interpreter.ensure(command.prog, command.needs, path, argv)
+    return run(name, argv)
 
 
 def run(name: str, argv: list[str]) -> int:
