@@ -26,10 +26,10 @@ ARCHIVE_SUFFIXES = (".tar.xz", ".txz", ".tar.gz", ".tgz")
 
 # tarfile's extraction filter (Python 3.12, and 3.8-3.11 security updates that
 # backport it; Python 3.14 makes "data" the default and 3.12-3.13 warn when no
-# filter is given). Where this Python has it, "data" refuses the same members
-# as _run_root below, once more, at extraction; where it has not (Debian 12's
-# 3.11.2), _run_root's checks alone guard the extraction, and passing the
-# argument would be a TypeError.
+# filter is given). Where this Python has it, "data" refuses, at extraction,
+# what would land outside the destination, as _run_root's checks before it
+# do; where it has not (Debian 12's 3.11.2), those checks alone guard the
+# extraction, and passing the argument would be a TypeError.
 _EXTRACT_FILTER = {"filter": "data"} if hasattr(tarfile, "data_filter") else {}
 
 
