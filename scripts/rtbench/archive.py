@@ -24,6 +24,14 @@ from rtbench.load import RunDataError
 # gzip also accepted.
 ARCHIVE_SUFFIXES = (".tar.xz", ".txz", ".tar.gz", ".tgz")
 
+# tarfile's extraction filter (Python 3.12, and 3.8-3.11 security updates that
+# backport it; Python 3.14 makes "data" the default and 3.12-3.13 warn when no
+# filter is given). Where this Python has it, "data" refuses, at extraction,
+# what would land outside the destination, as _run_root's checks before it
+# do; where it has not (Debian 12's 3.11.2), those checks alone guard the
+# extraction, and passing the argument would be a TypeError.
+_EXTRACT_FILTER = {"filter": "data"} if hasattr(tarfile, "data_filter") else {}
+
 
 def is_archive(path: Path) -> bool:
     return Path(path).name.endswith(ARCHIVE_SUFFIXES)
@@ -55,7 +63,7 @@ def unpack(archive: Path, into: Path) -> Path:
             members = tar.getmembers()
             root = _run_root(archive, members)
             for m in members:
-                tar.extract(m, into, set_attrs=False)
+                tar.extract(m, into, set_attrs=False, **_EXTRACT_FILTER)
     except FileNotFoundError:
         raise RunDataError(f"{archive}: no such file") from None
     except (tarfile.TarError, EOFError, OSError) as e:

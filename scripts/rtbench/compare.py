@@ -149,7 +149,10 @@ def verdict(ratio: float, ci: tuple[float, float], p: float, alpha: float, noise
 def geometric_mean(ratios) -> float:
     x = stats.finite(ratios)
     x = x[x > 0]
-    return float(np.exp(np.mean(np.log(x)))) if x.size else math.nan
+    # math.log and math.fsum, not np.log: NumPy 2's vectorised log rounds the
+    # last bit otherwise than NumPy 1.24's, and compare.json holds the mean at
+    # full precision.
+    return math.exp(math.fsum(math.log(v) for v in x) / x.size) if x.size else math.nan
 
 
 def compare_values(base, new, options: Options) -> dict:

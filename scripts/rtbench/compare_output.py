@@ -192,8 +192,12 @@ def ratio_plot(cmp: Comparison, stem: Path) -> list[Path]:
         mask = (rows["verdict"] == verdict_).to_numpy()
         if mask.any():
             r = rows[mask]
-            err = [r["ratio"] - r["ci_low"], r["ci_high"] - r["ratio"]]
-            ax.errorbar(r["ratio"], y[mask], xerr=err, fmt="o", color=color, markersize=3, capsize=2, label=verdict_)
+            ratio, low, high = (r[c].to_numpy(dtype=float) for c in ("ratio", "ci_low", "ci_high"))
+            # One 2 x N array, not a list of two Series: matplotlib (3.7+) looks
+            # for the first finite element of a list by math.isfinite, which
+            # pandas 2.1+ deprecates on a one-element Series.
+            err = np.vstack([ratio - low, high - ratio])
+            ax.errorbar(ratio, y[mask], xerr=err, fmt="o", color=color, markersize=3, capsize=2, label=verdict_)
     ax.set_xscale("log")
     # Labelled ticks at 1..9 x 10^k over a narrow range, 1, 2, 5 over a wide one.
     ends = rows[["ci_low", "ci_high", "ratio"]].to_numpy(dtype=float)

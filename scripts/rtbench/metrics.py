@@ -18,7 +18,6 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 from rtbench import names
@@ -84,10 +83,11 @@ SPEEDUP_KEYS = [names.SCENE, names.STAGE, names.ACCEL, names.WIDTH, names.HEIGHT
 
 
 def reference_rows(summary: pd.DataFrame, reference: str) -> pd.DataFrame:
-    """The reference renderer's rows, one per SPEEDUP_KEYS."""
+    """The reference renderer's rows, one per SPEEDUP_KEYS: the fewest threads
+    (ties: the first in summary order)."""
     keys = SPEEDUP_KEYS
     ref = summary[summary[names.RENDERER] == reference]
-    return ref.sort_values(names.THREADS).drop_duplicates(keys)[[*keys, "median", "ci_low", "ci_high"]]
+    return ref.sort_values(names.THREADS, kind="stable").drop_duplicates(keys)[[*keys, "median", "ci_low", "ci_high"]]
 
 
 def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[GpuEstimate],
@@ -104,6 +104,13 @@ def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[Gpu
     if rows.empty:
         return pd.DataFrame(columns=[*summary.columns, "ref_median", "speedup", "speedup_low", "speedup_high",
                                      "p", "p_source", "karp_flatt"])
+    # Grouped by the work they are compared at (each group shares its
+    # reference median), groups in order of first appearance, rows within a
+    # group in summary order. pandas before 2.2 returned an inner merge in
+    # this order, pandas 2.2 in the left frame's order: sorted here, the
+    # metrics table and its CSV are the same under both.
+    rows = (rows.assign(_group=rows.groupby(keys, sort=False, dropna=False).ngroup(), _row=range(len(rows)))
+            .sort_values(["_group", "_row"], kind="stable").drop(columns=["_group", "_row"]).reset_index(drop=True))
     out = rows.copy()
     out["speedup"] = [speedup(r, t) for r, t in zip(out["ref_median"], out["median"])]
     out["speedup_low"] = [speedup(r, t) for r, t in zip(out["ref_ci_low"], out["ci_high"])]
@@ -125,7 +132,7 @@ def scaling_table(summary: pd.DataFrame) -> pd.DataFrame:
     for _, group in summary.groupby(keys, sort=False, dropna=False):
         if group[names.THREADS].nunique() < 2:
             continue
-        group = group.sort_values(names.THREADS)
+        group = group.sort_values(names.THREADS, kind="stable")
         base = group.iloc[0]
         scaled = group.copy()
         scaled["scaling_speedup"] = [speedup(base["median"], t) * base[names.THREADS] for t in group["median"]]
@@ -148,15 +155,25 @@ CURVE = "curve"
 def power_law_fit(spheres, ms) -> tuple[float, float, float]:
     """The least-squares line through (log N, log ms), i.e. ms = c N^k:
     (k, c, r^2 of the line in log-log space). NaNs for fewer than two
-    distinct N."""
-    x, y = np.log(np.asarray(spheres, dtype=float)), np.log(np.asarray(ms, dtype=float))
-    if x.size < 2 or np.ptp(x) == 0:
+    distinct N.
+
+    In closed form over math.log and math.fsum, not np.log and np.polyfit:
+    NumPy 2's vectorised log and the LAPACK under polyfit round the last bits
+    otherwise than NumPy 1.24's, and report/data/cost_vs_spheres.csv holds
+    these numbers at full precision, the same on every release."""
+    x = [math.log(float(n)) for n in spheres]
+    y = [math.log(float(v)) for v in ms]
+    if len(x) < 2 or min(x) == max(x):
         return math.nan, math.nan, math.nan
-    k, log_c = np.polyfit(x, y, 1)
-    residual = float(np.sum((y - (k * x + log_c)) ** 2))
-    spread = float(np.sum((y - y.mean()) ** 2))
+    mean_x, mean_y = math.fsum(x) / len(x), math.fsum(y) / len(y)
+    dx = [v - mean_x for v in x]
+    dy = [v - mean_y for v in y]
+    k = math.fsum(a * b for a, b in zip(dx, dy)) / math.fsum(a * a for a in dx)
+    log_c = mean_y - k * mean_x
+    residual = math.fsum((b - (k * a + log_c)) ** 2 for a, b in zip(x, y))
+    spread = math.fsum(b * b for b in dy)
     r2 = 1.0 - residual / spread if spread > 0 else 1.0
-    return float(k), float(math.exp(log_c)), r2
+    return k, math.exp(log_c), r2
 
 
 def sphere_curves(summary: pd.DataFrame, min_counts: int = MIN_SPHERE_COUNTS) -> pd.DataFrame:

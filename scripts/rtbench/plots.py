@@ -133,7 +133,16 @@ def _bars(ax, rows: pd.DataFrame, scenes: list[str], offset: float, width: float
         return
     hit = rows.loc[[scenes[k] for k in at]]
     med, lo, hi = (hit[c].to_numpy(dtype=float) for c in ("median", "ci_low", "ci_high"))
-    ax.bar(np.array(at) + offset, med, width, yerr=[med - lo, hi - med], capsize=2, **style)
+    x = np.array(at) + offset
+    ax.bar(x, med, width, **style)
+    # The error bars as ax.bar(yerr=...) draws them (black, on the bars'
+    # centres and tops, no legend entry), but by errorbar itself with one
+    # 2 x N array: bar hands errorbar a list of N-element arrays, in which
+    # matplotlib 3.7+ looks for a finite element with math.isfinite, which
+    # NumPy 1.25+ deprecates for a one-element array (a configuration with a
+    # bar in one scene only). Same figure, the same bytes under matplotlib 3.6.
+    ax.errorbar((x - width / 2) + 0.5 * width, med, yerr=np.vstack([med - lo, hi - med]), fmt="none", ecolor="k",
+                capsize=2, label="_nolegend_")
 
 
 def _scenes_by_size(df: pd.DataFrame) -> list[str]:
