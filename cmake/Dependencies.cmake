@@ -59,19 +59,33 @@ endif()
 # An optional feature over one package: option OPTION is on by default
 # where the package is found; asked for and missing stops the configure
 # step naming the Debian package. Off, the feature stays in the schema and
-# answers "not built" (exit 2).
-macro(rt_optional_feature option package version debian what)
-  find_package(${package} ${version} QUIET)
+# answers "not built" (exit 2). `versions` is one version or a list tried
+# in order (the first found wins).
+macro(rt_optional_feature option package versions debian what)
+  foreach(_rt_version IN ITEMS ${versions})
+    find_package(${package} ${_rt_version} QUIET)
+    if(${package}_FOUND)
+      break()
+    endif()
+  endforeach()
   option(${option} "Build ${what}" ${${package}_FOUND})
   if(${option} AND NOT ${package}_FOUND)
+    string(REPLACE ";" " or " _rt_versions_text "${versions}")
     message(FATAL_ERROR
-      "${option} is ON but ${package} ${version} was not found. On Debian/Ubuntu: apt-get install ${debian}"
+      "${option} is ON but ${package} ${_rt_versions_text} was not found. On Debian/Ubuntu: apt-get install ${debian}"
       " (or run scripts/setup-debian as root), or configure with -D${option}=OFF.")
   endif()
 endmacro()
 
-# Embree 3, for the Embree reference renderer (--embree).
-rt_optional_feature(RT_EMBREE embree 3 libembree-dev "the Embree reference renderer (--embree)")
+# Embree 4 (Debian 13, nixpkgs), else Embree 3 (Debian 12), for the Embree
+# reference renderer (--embree). Embree's config-version files accept only
+# their own major version, so each major is asked for by itself. The code
+# gets the major found as RT_EMBREE_MAJOR (src/render/embree/embree_api.h).
+rt_optional_feature(RT_EMBREE embree "4;3" libembree-dev "the Embree reference renderer (--embree)")
+if(RT_EMBREE)
+  set(RT_EMBREE_MAJOR "${embree_VERSION_MAJOR}")
+  message(STATUS "Embree ${embree_VERSION} (RT_EMBREE_MAJOR=${RT_EMBREE_MAJOR})")
+endif()
 # GLFW 3, for the live window (--window); CI and the Nix package build it,
 # and without it the binary keeps today's dependencies.
 rt_optional_feature(RT_WINDOW glfw3 3.3 libglfw3-dev "the live window (--window): GLFW + a Vulkan swapchain")

@@ -13,8 +13,15 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG
+// stb_image's PNG reader sets the 16-bit transparent colour (tc16) from a
+// tRNS chunk and reads it only under the same conditions (has_trans, depth
+// 16); after inlining, GCC 14 cannot see that and warns it may be used
+// uninitialized. The library is not ours to change.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
+#pragma GCC diagnostic pop
 
 namespace rt {
 namespace {

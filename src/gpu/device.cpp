@@ -19,12 +19,16 @@ std::string versionString(std::uint32_t v) {
          std::to_string(VK_API_VERSION_PATCH(v));
 }
 
-// Prints and counts validation warnings and errors. Written with the C
-// types, which every Vulkan-Hpp version accepts (see messengerCreateInfo).
-VKAPI_ATTR VkBool32 VKAPI_CALL countMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                            VkDebugUtilsMessageTypeFlagsEXT /*types*/,
-                                            const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
-  const bool error = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) != 0;
+// Prints and counts validation warnings and errors. Vulkan-Hpp declares
+// the callback with the C types (Debian 12's 1.3.239) or, newer, with vk::
+// types of the same layout (Debian 13's 1.4.309); a template whose
+// parameter types are deduced from the member it is assigned to (see
+// messengerCreateInfo) is one callback for both, without a cast between
+// function types.
+template <typename Severity, typename Types, typename CallbackData>
+VKAPI_ATTR VkBool32 VKAPI_CALL countMessage(Severity severity, Types /*types*/, const CallbackData* data, void* user) {
+  const bool error =
+      (static_cast<VkDebugUtilsMessageSeverityFlagBitsEXT>(severity) & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) != 0;
   static_cast<ValidationCounter*>(user)->add(error);
   std::fprintf(stderr, "vulkan %s: %s\n", error ? "error" : "warning", data->pMessage ? data->pMessage : "");
   return VK_FALSE;  // never abort the call: the count is what fails a test
@@ -38,9 +42,7 @@ vk::DebugUtilsMessengerCreateInfoEXT messengerCreateInfo(ValidationCounter& coun
                      vk::DebugUtilsMessageTypeFlagBitsEXT::eValidation |
                      vk::DebugUtilsMessageTypeFlagBitsEXT::ePerformance,
       .pUserData = &counter};
-  // Newer Vulkan-Hpp declares the callback with vk:: types, which have the
-  // C types' layout; the cast keeps one callback for both.
-  info.pfnUserCallback = reinterpret_cast<decltype(info.pfnUserCallback)>(&countMessage);
+  info.pfnUserCallback = &countMessage;  // the template's arguments come from the member's type
   return info;
 }
 

@@ -37,14 +37,26 @@ void throwOnDeviceError(RTCDevice device, const char* what) {
 }
 
 // No configuration string: Embree picks the best instruction set it was
-// built with for this CPU, as a user's default device would.
+// built with for this CPU, as a user's default device would. The device
+// must offer what the scene and the model need: sphere points (a build
+// option, EMBREE_GEOMETRY_POINT) and, for rays that start inside a sphere,
+// its far hit (no EMBREE_BACKFACE_CULLING_SPHERES).
 embree::DeviceHandle newDevice() {
   RTCDevice device = rtcNewDevice(nullptr);
   if (device == nullptr) {
     throw RendererUnavailable("renderer 'embree': Embree has no device on this machine (" +
                               errorName(rtcGetDeviceError(nullptr)) + ")");
   }
-  return embree::DeviceHandle(device);
+  embree::DeviceHandle handle(device);
+  if (rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_POINT_GEOMETRY_SUPPORTED) == 0) {
+    throw RendererUnavailable("renderer 'embree': this Embree was built without point geometry (sphere points)");
+  }
+  if (embree::api::cullsSphereBackFaces(device)) {
+    throw RendererUnavailable(
+        "renderer 'embree': this Embree culls the back faces of spheres (EMBREE_BACKFACE_CULLING_SPHERES), "
+        "so a ray that starts inside a sphere would miss it");
+  }
+  return handle;
 }
 
 int nativePacketWidth(RTCDevice device) {
@@ -61,29 +73,20 @@ int packetWidth(RTCDevice device, int lanes) {
                               " is not an Embree packet width (4, 8 or 16)");
 }
 
-// Embree's packet type and trace call of each width.
+// Embree's packet type of each width (the trace call is api::intersect).
 template <int W>
 struct Packet;
 template <>
 struct Packet<4> {
   static RTCRayHit4& of(Slot& s) { return s.packet4; }
-  static void intersect(const int* valid, RTCScene scene, RTCIntersectContext* c, RTCRayHit4* p) {
-    rtcIntersect4(valid, scene, c, p);
-  }
 };
 template <>
 struct Packet<8> {
   static RTCRayHit8& of(Slot& s) { return s.packet8; }
-  static void intersect(const int* valid, RTCScene scene, RTCIntersectContext* c, RTCRayHit8* p) {
-    rtcIntersect8(valid, scene, c, p);
-  }
 };
 template <>
 struct Packet<16> {
   static RTCRayHit16& of(Slot& s) { return s.packet16; }
-  static void intersect(const int* valid, RTCScene scene, RTCIntersectContext* c, RTCRayHit16* p) {
-    rtcIntersect16(valid, scene, c, p);
-  }
 };
 
 // Loads the live lanes' rays into the packet and asks Embree for each one's
@@ -91,7 +94,7 @@ struct Packet<16> {
 // distance). Every lane is written, the masked ones too, so Embree never
 // reads stale values.
 template <int W>
-void tracePacket(const FrameData& f, Slot& s, RTCIntersectContextFlags coherence) {
+void tracePacket(const FrameData& f, Slot& s, embree::api::Coherence coherence) {
   auto& p = Packet<W>::of(s);
   for (int i = 0; i < W; ++i) {
     const Lane& lane = s.lanes[static_cast<std::size_t>(i)];
@@ -108,13 +111,10 @@ void tracePacket(const FrameData& f, Slot& s, RTCIntersectContextFlags coherence
     p.ray.mask[i] = ~0u;
     p.ray.id[i] = static_cast<unsigned>(i);
     p.ray.flags[i] = 0;
-    p.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    p.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    embree::api::clearHit(p.hit, i);
   }
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = coherence;
-  Packet<W>::intersect(s.valid.data(), f.scene, &context, &p);
+  embree::api::QueryArguments args = embree::api::queryArguments(coherence);
+  embree::api::intersect(s.valid.data(), f.scene, args, p);
 }
 
 // Lane i's hit as our model records it: Embree gives the distance (tfar)
@@ -160,7 +160,7 @@ template <int W, bool kBounceExit, typename Visit>
 void forEachDepth(const FrameData& f, Slot& s, const Visit& visit) {
   for (int depth = 0; depth < f.inputs.maxDepth; ++depth) {
     if (kBounceExit && !anyLive(s)) break;
-    tracePacket<W>(f, s, depth == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
+    tracePacket<W>(f, s, depth == 0 ? embree::api::Coherence::coherent : embree::api::Coherence::incoherent);
     for (int i = 0; i < W; ++i) {
       Lane& lane = s.lanes[static_cast<std::size_t>(i)];
       if (lane.live) visit(depth, i, lane);

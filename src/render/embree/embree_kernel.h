@@ -1,14 +1,13 @@
 #pragma once
-// The Embree reference kernel (renderer `embree`, --embree): Intel Embree 3
-// answers the spatial query, which sphere a ray meets first, for packets of
-// horizontally adjacent pixels; shading, the bounce, both algorithms and
+// The Embree reference kernel (renderer `embree`, --embree): Intel Embree
+// (4 or 3, through the version layer embree_api.h) answers the spatial
+// query, which sphere a ray meets first, for packets of horizontally
+// adjacent pixels; shading, the bounce, both algorithms and
 // the output are the scalar model's (docs/render-model.md sections 4-7,
 // render/scalar/scalar_model.h). It is the renderer a user would otherwise
 // pick, kept to compare ours with. Built only with RT_EMBREE
 // (RT_HAVE_EMBREE); src/render/embree/README.md lists where Embree's
 // sphere test differs from section 3.
-#include <embree3/rtcore.h>
-
 #include <array>
 #include <memory>
 #include <optional>
@@ -17,6 +16,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "render/embree/embree_api.h"
 #include "render/render_options.h"
 #include "render/renderer.h"
 #include "render/scalar/scalar_model.h"
