@@ -141,8 +141,7 @@ def _bars(ax, rows: pd.DataFrame, scenes: list[str], offset: float, width: float
     # matplotlib 3.7+ looks for a finite element with math.isfinite, which
     # NumPy 1.25+ deprecates for a one-element array (a configuration with a
     # bar in one scene only). Same figure, the same bytes under matplotlib 3.6.
-    ax.errorbar((x - width / 2) + 0.5 * width, med, yerr=np.vstack([med - lo, hi - med]), fmt="none", ecolor="k",
-                capsize=2, label="_nolegend_")
+    ax.errorbar(x, med, yerr=np.vstack([med - lo, hi - med]), fmt="none", ecolor="k", capsize=2, label="_nolegend_")
 
 
 def _scenes_by_size(df: pd.DataFrame) -> list[str]:
