@@ -201,8 +201,8 @@ def run_report(run_dir: Path, report_dir: Path) -> int:
         print(f"bench: the report was interrupted; the runs are kept in {run_dir}.\n"
               f"bench: report them with: scripts/report.py {run_dir}", file=sys.stderr)
         return 130
-    except SystemExit as e:  # argparse's way out
-        status = e.code if isinstance(e.code, int) else 1
+    except SystemExit as e:  # argparse's way out; sys.exit() and sys.exit(None) mean success
+        status = 0 if e.code is None else e.code if isinstance(e.code, int) else 1
     except Exception:  # a bug in the report: its traceback, then the way to retry
         traceback.print_exc()
         status = 1

@@ -7,11 +7,12 @@ machine with pyenv or a virtualenv that is often one without pandas,
 matplotlib, scipy or rich. The Python that has them is the one
 scripts/lib/python.sh picks for the bash commands: $RT_PYTHON when set (the
 Nix apps and `nix develop` set it), else (only then) Debian's
-/usr/bin/python3, which scripts/setup-debian installs the packages for. `ensure` makes the Python scripts of scripts/ (report.py, compare.py)
-use that one too: when the running Python lacks a module the command needs,
-the script starts again under that Python (os.execv, same arguments);
-where there is none, or it lacks them too, the command stops with one
-paragraph naming the missing modules and how to get them.
+/usr/bin/python3, which scripts/setup-debian installs the packages for.
+`ensure` makes the Python scripts of scripts/ (report.py, compare.py) use
+that one too: when the running Python lacks a module the command needs, the
+script starts again under that Python (os.execv, same arguments); where
+there is none, or it lacks them too, the command stops with one paragraph
+naming the missing modules and how to get them.
 
 The script starts again at most once: the variable REEXECUTED_FROM marks the
 second start, which takes it out of its environment at once, so two Pythons
