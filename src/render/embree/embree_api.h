@@ -29,8 +29,9 @@ namespace rt::embree::api {
 enum class Coherence { coherent, incoherent };
 
 // Embree 4 passes the hint in RTCIntersectArguments (flags, after
-// rtcInitIntersectArguments; there is no RTCIntersectContext any more),
-// Embree 3 in an RTCIntersectContext (flags, after rtcInitIntersectContext).
+// rtcInitIntersectArguments; there is no RTCIntersectContext any more) and
+// takes it after the packet; Embree 3 passes it in an RTCIntersectContext
+// (flags, after rtcInitIntersectContext) before the packet.
 #if RT_EMBREE_MAJOR == 4
 using QueryArguments = RTCIntersectArguments;
 inline QueryArguments queryArguments(Coherence coherence) {
@@ -39,14 +40,9 @@ inline QueryArguments queryArguments(Coherence coherence) {
   args.flags = coherence == Coherence::coherent ? RTC_RAY_QUERY_FLAG_COHERENT : RTC_RAY_QUERY_FLAG_INCOHERENT;
   return args;
 }
-inline void intersect(const int* valid, RTCScene scene, QueryArguments& args, RTCRayHit4& packet) {
-  rtcIntersect4(valid, scene, &packet, &args);
-}
-inline void intersect(const int* valid, RTCScene scene, QueryArguments& args, RTCRayHit8& packet) {
-  rtcIntersect8(valid, scene, &packet, &args);
-}
-inline void intersect(const int* valid, RTCScene scene, QueryArguments& args, RTCRayHit16& packet) {
-  rtcIntersect16(valid, scene, &packet, &args);
+template <typename Trace, typename Packet>
+void traceWith(Trace trace, const int* valid, RTCScene scene, QueryArguments& args, Packet& packet) {
+  trace(valid, scene, &packet, &args);
 }
 #else
 using QueryArguments = RTCIntersectContext;
@@ -57,16 +53,22 @@ inline QueryArguments queryArguments(Coherence coherence) {
       coherence == Coherence::coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   return context;
 }
-inline void intersect(const int* valid, RTCScene scene, QueryArguments& context, RTCRayHit4& packet) {
-  rtcIntersect4(valid, scene, &context, &packet);
-}
-inline void intersect(const int* valid, RTCScene scene, QueryArguments& context, RTCRayHit8& packet) {
-  rtcIntersect8(valid, scene, &context, &packet);
-}
-inline void intersect(const int* valid, RTCScene scene, QueryArguments& context, RTCRayHit16& packet) {
-  rtcIntersect16(valid, scene, &context, &packet);
+template <typename Trace, typename Packet>
+void traceWith(Trace trace, const int* valid, RTCScene scene, QueryArguments& context, Packet& packet) {
+  trace(valid, scene, &context, &packet);
 }
 #endif
+
+// The trace call of each packet width, in this version's argument order.
+inline void intersect(const int* valid, RTCScene scene, QueryArguments& args, RTCRayHit4& packet) {
+  traceWith(rtcIntersect4, valid, scene, args, packet);
+}
+inline void intersect(const int* valid, RTCScene scene, QueryArguments& args, RTCRayHit8& packet) {
+  traceWith(rtcIntersect8, valid, scene, args, packet);
+}
+inline void intersect(const int* valid, RTCScene scene, QueryArguments& args, RTCRayHit16& packet) {
+  traceWith(rtcIntersect16, valid, scene, args, packet);
+}
 
 // Lane i of a packet's hit before tracing: no geometry, no instance.
 // Embree 4.3 builds with instance arrays (RTC_GEOMETRY_INSTANCE_ARRAY) add
