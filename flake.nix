@@ -164,8 +164,10 @@
           devShells.default = (pkgs.mkShell.override { inherit stdenv; }) {
             inputsFrom = [ raytracer ];
             # tracy (GUI, tracy-capture, tracy-csvexport), vulkan-tools, the
-            # validation layers, clang-tools, git; the tests' programs.
-            packages = packagesOfRole "develop" ++ packagesOfRole "runtime" ++ packagesOfRole "check" ++ [ python ];
+            # validation layers, git; the tests' programs; scripts/lint's
+            # clang-format 19 (with clangd) and ruff.
+            packages = packagesOfRole "develop" ++ packagesOfRole "runtime" ++ packagesOfRole "check"
+              ++ packagesOfRole "lint" ++ [ python ];
             env = nixEnv // {
               RT_PYTHON = "${python}/bin/python3";
               # cmake --preset profile builds nixpkgs' Tracy client (cmake/Tracy.cmake).
@@ -178,8 +180,8 @@
           checks = {
             # The package's test suite runs in its checkPhase.
             raytracer = raytracer;
-            # The project has no formatter or linter yet; this catches syntax
-            # errors in its scripts (bash -n, a parse of every Python file).
+            # Syntax errors in the scripts (bash -n, a parse of every Python
+            # file); formatting and lint are scripts/lint, in the dev shell.
             scripts-syntax = pkgs.runCommand "raytracer-scripts-syntax" { nativeBuildInputs = [ python ]; } ''
               cd ${self}
               for f in scripts/lib/*.sh; do bash -n "$f"; done

@@ -23,7 +23,7 @@ except ModuleNotFoundError:  # Python < 3.11 has no TOML parser; Debian 12 has 3
 pytestmark = pytest.mark.skipif(tomllib is None, reason="Python < 3.11 has no tomllib")
 
 ROLES = {"compiler", "build", "library", "test-library", "runtime", "check", "check-dlopen", "python",
-         "python-interpreter", "develop"}
+         "python-interpreter", "develop", "lint"}
 RELEASES = ("debian12", "debian13")
 # The restricted TOML that scripts/setup-debian's awk reads (dependencies.toml's header).
 LINE = re.compile(r'^(#.*|\[[a-z0-9-]+\]|[a-z0-9]+ = "[^"\\]*"|)$')

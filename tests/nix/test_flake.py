@@ -210,7 +210,8 @@ def test_dev_shell_has_the_tools_and_lavapipe(nix, flake):
         assert_lavapipe(shell_exports(shell["shellHook"]), arch)
         assert shell["RT_TRACY_CLIENT_DIR"].endswith("-source/public")
         assert shell["RT_NIX"] == "1"
-        assert {"tracy-0.11.1", "vulkan-tools", "vulkan-validation-layers", "clang-tools"} <= set(shell["packages"])
+        assert {"tracy-0.11.1", "vulkan-tools", "vulkan-validation-layers", "clang-tools-19",
+                "ruff"} <= set(shell["packages"])
 
 
 def test_the_package_and_its_python_have_every_dependency_of_the_list(nix, flake, repo_root):

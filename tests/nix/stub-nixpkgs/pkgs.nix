@@ -42,7 +42,7 @@ lib.genAttrs [
   "vulkan-tools"
   "vulkan-validation-layers"
   "mesa"
-  "clang-tools"
+  "ruff"
   "git"
   "glfw"
   "embree"
@@ -50,6 +50,9 @@ lib.genAttrs [
   "imagemagick"
 ] package // {
   inherit gcc14Stdenv;
+
+  # An LLVM release is a set of its own (clang-format is in clang-tools).
+  llvmPackages_19 = { clang-tools = package "clang-tools-19"; };
 
   # X.Org packages are a set of their own (Xvfb is in xorgserver).
   xorg = lib.genAttrs [ "xorgserver" "xwininfo" "xwd" "libX11" "libXtst" ] package;
