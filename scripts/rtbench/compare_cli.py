@@ -42,6 +42,9 @@ from pathlib import Path
 from rtbench import budget, compare_input, compare_output, load
 from rtbench.compare import DEFAULT_ALPHA, DEFAULT_NOISE, ENVIRONMENT_KEYS, CompareError, Options
 
+# The command alone, its --help the docstring above: rtbench.compare computes the comparison,
+# compare_input reads the two sides, compare_output writes the tables, JSON and plot.
+
 
 def fraction(text: str) -> float:
     """'5%' or '0.05' -> 0.05."""
