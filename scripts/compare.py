@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """scripts/compare.py BASE NEW [-o DIR] [--fail-above 10%]: new runs against
 base runs, configuration by configuration, the same as `python3 -m rtbench
-compare` (the code: rtbench/compare.py; `--help` lists the options).
+compare` (the code: rtbench/compare_cli.py; `--help` lists the options).
 
 `python3 scripts/compare.py ...` works as well as `scripts/compare.py ...`.
 The comparison needs pandas, numpy, scipy, matplotlib and rich: when the

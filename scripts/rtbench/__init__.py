@@ -12,13 +12,21 @@ modules of pure functions:
 - names:         the names the package relies on, all taken from the schema
 - atomic:        temp-file + rename writers (nothing is ever half-written)
 - scenes:        the seeded scene generator (gen-scene)
-- profiles:      declarative run matrices (profiles/*.toml) -> configurations
+- profiles:      declarative run matrices (profiles/*.toml), read and checked
+- configurations: a profile expanded into configurations (command lines) and their run order
 - noise:         machine-noise checks (CPU governor, load, spread between repetitions)
-- runner:        builds the binary, runs each configuration as its own process
+- builder:       builds the raytracer binary of a CMake preset
+- manifests:     the run directory: made, locked, its manifest of runs written and resumed
+- run_status:    the status words of a manifest (ok, failed, pending, ...), one vocabulary
+- runner:        runs each configuration as its own process, recording how it ended
 - progress:      a build's output condensed to a line every 10 % (stdlib only; scripts/lib/steps.sh)
 - bench:         the bench command: profile -> runs -> report
 - load:          run directories -> one tidy pandas DataFrame, with clear errors
 - stats:         median, MAD, bootstrap CI, percentiles, modified z-score outliers
+- compare:       the comparison of two sets of runs (pure): matching, ratios, verdicts, environment
+- compare_input: reads the two sides of a comparison from run directories or archives
+- compare_output: a comparison as terminal and Markdown tables, JSON and the ratio plot
+- compare_cli:   the compare command (scripts/compare.py)
 - metrics:       speedup, Karp-Flatt, processor counts, cost vs spheres (power-law fits)
 - thesis:        the thesis' published numbers and what they recompute to
 - tables:        Markdown and LaTeX tables

@@ -35,8 +35,9 @@ import time
 import traceback
 from pathlib import Path
 
-from rtbench import names, noise, profiles, runner
+from rtbench import builder, configurations, manifests, names, noise, profiles, runner
 from rtbench.profiles import ProfileError
+from rtbench.run_status import ManifestStatus, RunStatus
 
 DEFAULT_PROFILE = "paper"
 
@@ -92,17 +93,18 @@ def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespac
 PLAN_OVERRIDES = ("width", "height", "warmup", "frames", "repetitions")
 
 
-def plan(args: argparse.Namespace) -> tuple[profiles.Profile, list[profiles.Config], list[tuple[int, profiles.Config]]]:
+def plan(args: argparse.Namespace) -> tuple[profiles.Profile, list[configurations.Config],
+                                            list[tuple[int, configurations.Config]]]:
     """The profile, its configurations and the run order, with the command
     line's scenes, renderer filter and overrides applied."""
     profile = profiles.load_profile(args.profile or DEFAULT_PROFILE)
     scenes = [profiles.resolve_scene(s) for s in (args.scenes or profile.scenes)]
     forced = {k: getattr(args, k) for k in ("width", "height", "warmup", "frames") if getattr(args, k) is not None}
-    configs = profiles.expand(profile, scenes, os.cpu_count() or 1, args.renderers, forced)
+    configs = configurations.expand(profile, scenes, os.cpu_count() or 1, args.renderers, forced)
     if not configs:
         raise ProfileError(f"{profile.path}: no configuration left (renderer filter {args.renderers})")
     repetitions = args.repetitions or profile.repetitions
-    order = profiles.schedule(configs, repetitions, profile.interleave, profile.seed)
+    order = configurations.schedule(configs, repetitions, profile.interleave, profile.seed)
     return profile, configs, order
 
 
@@ -134,7 +136,7 @@ class RichObserver(runner.Observer):
         self.progress.update(self.task, description=f"{record.renderer}: {record.config} r{record.repetition}")
 
     def finished(self, record, done, total):
-        style = "green" if record.status == runner.OK else "red"
+        style = "green" if record.status == RunStatus.OK else "red"
         text = _line(record)
         self.progress.console.print(f"[{style}]{text[:11]}[/]{text[11:]}", highlight=False)
         self.progress.update(self.task, completed=done)
@@ -143,9 +145,9 @@ class RichObserver(runner.Observer):
         self.progress.stop()
 
 
-def _line(record: runner.RunRecord) -> str:
+def _line(record: manifests.RunRecord) -> str:
     text = f"{record.status:<11} {record.config} r{record.repetition}  {record.seconds or 0:.2f} s"
-    if record.status != runner.OK and record.stderr_tail:
+    if record.status != RunStatus.OK and record.stderr_tail:
         text += f"  ({record.stderr_tail.splitlines()[-1][:160]})"
     return text
 
@@ -155,7 +157,7 @@ def _clock(seconds: float) -> str:
     return f"{s // 3600}:{s % 3600 // 60:02d}:{s % 60:02d}"
 
 
-def mark_unavailable(manifest: runner.Manifest, binary: Path, cwd: Path, out) -> None:
+def mark_unavailable(manifest: manifests.Manifest, binary: Path, cwd: Path, out) -> None:
     """Probes each renderer once; the runs of one the binary cannot run are
     marked unavailable with its reason instead of failing one by one."""
     first_scene = {}
@@ -168,7 +170,7 @@ def mark_unavailable(manifest: runner.Manifest, binary: Path, cwd: Path, out) ->
         print(f"bench: skipping {renderer}: {reason.splitlines()[-1] if reason else ''}", file=out)
         for r in manifest.runs:
             if r.renderer == renderer:
-                r.status, r.stderr_tail = runner.UNAVAILABLE, reason
+                r.status, r.stderr_tail = RunStatus.UNAVAILABLE, reason
 
 
 def machine_warnings() -> list[str]:
@@ -246,24 +248,24 @@ def resolve_binary(args: argparse.Namespace, profile: profiles.Profile) -> Path 
             return None
         return given.resolve()
     try:
-        return runner.build(preset, names.REPO_ROOT, args.jobs, sys.stdout)
-    except runner.BuildError as e:
+        return builder.build(preset, names.REPO_ROOT, args.jobs, sys.stdout)
+    except builder.BuildError as e:
         print(f"bench: {e}", file=sys.stderr)
         return None
 
 
 def run_profile(args, profile, configs, order, binary: Path) -> int:
     """Runs the schedule into a new run directory and reports on it."""
-    run_dir = runner.make_run_dir(args.runs_dir, profile.name)
-    with runner.run_dir_lock(run_dir):
+    run_dir = manifests.make_run_dir(args.runs_dir, profile.name)
+    with manifests.run_dir_lock(run_dir):
         configs, order = _place_scenes(configs, order, run_dir)
-        manifest = runner.Manifest.start(profile, configs, runner.plan_runs(order, binary, run_dir), binary,
-                                         args.command_line, runner.host_info(), machine_warnings())
+        manifest = manifests.Manifest.start(profile, configs, manifests.plan_runs(order, binary, run_dir), binary,
+                                            args.command_line, manifests.host_info(), machine_warnings())
         for w in manifest.warnings:
             print(f"bench: warning: {w}", file=sys.stderr)
         print(f"bench: profile {profile.name}: {len(configs)} configurations x {len(order) // len(configs)} "
               f"repetitions = {len(order)} runs -> {run_dir}", flush=True)
-        runner.write_manifest(run_dir, manifest)
+        manifests.write_manifest(run_dir, manifest)
         completed = run_manifest(args, manifest, run_dir, binary_to_probe=binary)
     return finish(args, manifest, run_dir, completed)
 
@@ -276,44 +278,44 @@ def resume_run(args: argparse.Namespace) -> int:
         print(f"bench: --resume {run_dir}: not a directory", file=sys.stderr)
         return 2
     try:
-        with runner.run_dir_lock(run_dir):
-            manifest = runner.resume_manifest(run_dir, args.binary)
+        with manifests.run_dir_lock(run_dir):
+            manifest = manifests.resume_manifest(run_dir, args.binary)
             _check_profile(args, manifest)
             missing = manifest.missing()
-            kept = manifest.counts().get(runner.OK, 0)
+            kept = manifest.counts().get(RunStatus.OK, 0)
             print(f"bench: resuming {run_dir} (profile {manifest.profile.get('name')}): "
                   f"{sum(map(len, missing.values()))} runs of {len(missing)} configurations to go, "
                   f"{kept} finished runs kept", flush=True)
             if manifest.host.get("logical_cores") != os.cpu_count():
                 print(f"bench: warning: this machine has {os.cpu_count()} logical cores, the run started on one "
                       f"with {manifest.host.get('logical_cores')}", file=sys.stderr)
-            manifest.resumed.append({"at": runner.utc_now(), "command_line": args.command_line})
-            runner.write_manifest(run_dir, manifest)
+            manifest.resumed.append({"at": manifests.utc_now(), "command_line": args.command_line})
+            manifests.write_manifest(run_dir, manifest)
             completed = run_manifest(args, manifest, run_dir)
-    except runner.ResumeError as e:
+    except manifests.ResumeError as e:
         print(f"bench: cannot resume: {e}", file=sys.stderr)
         return 2
-    except runner.RunDirBusy as e:
+    except manifests.RunDirBusy as e:
         print(f"bench: {e}", file=sys.stderr)
         return 1
     return finish(args, manifest, run_dir, completed)
 
 
-def _check_profile(args: argparse.Namespace, manifest: runner.Manifest) -> None:
+def _check_profile(args: argparse.Namespace, manifest: manifests.Manifest) -> None:
     """A --profile given with --resume must be the run's own, unchanged."""
     if not args.profile:
         return
     try:
         given = profiles.load_profile(args.profile)
     except ProfileError as e:
-        raise runner.ResumeError(str(e)) from None
+        raise manifests.ResumeError(str(e)) from None
     recorded = manifest.profile.get("definition")
     if given.name != manifest.profile.get("name") or json.loads(json.dumps(given.raw, default=str)) != recorded:
-        raise runner.ResumeError(f"{args.resume} ran profile {manifest.profile.get('name')!r} "
-                                 f"({manifest.profile.get('path')}); {given.path} is not that profile as it was")
+        raise manifests.ResumeError(f"{args.resume} ran profile {manifest.profile.get('name')!r} "
+                                    f"({manifest.profile.get('path')}); {given.path} is not that profile as it was")
 
 
-def run_manifest(args, manifest: runner.Manifest, run_dir: Path, binary_to_probe: Path | None = None) -> bool:
+def run_manifest(args, manifest: manifests.Manifest, run_dir: Path, binary_to_probe: Path | None = None) -> bool:
     """Runs the manifest's pending runs (first probing each renderer when a
     new run starts); False when SIGINT or SIGTERM stopped it, the manifest
     then marked interrupted by that signal."""
@@ -323,22 +325,22 @@ def run_manifest(args, manifest: runner.Manifest, run_dir: Path, binary_to_probe
                 mark_unavailable(manifest, binary_to_probe, names.REPO_ROOT, sys.stderr)
             return _execute(args, manifest, run_dir, float(manifest.profile["timeout_s"]))
     except KeyboardInterrupt as e:
-        if manifest.status == runner.COMPLETE:  # the signal came after the last run
+        if manifest.status == ManifestStatus.COMPLETE:  # the signal came after the last run
             return True
-        runner.mark_interrupted(run_dir, manifest, e)
+        manifests.mark_interrupted(run_dir, manifest, e)
         return False
 
 
 def _place_scenes(configs, order, run_dir: Path):
     """The configurations and the schedule with the generated scenes written
     into the run directory (profiles.GENERATED_SCENES)."""
-    placed = runner.write_generated_scenes(configs, run_dir, sys.stdout)
+    placed = manifests.write_generated_scenes(configs, run_dir, sys.stdout)
     by_id = {c.id: c for c in placed}
     return placed, [(rep, by_id[c.id]) for rep, c in order]
 
 
-def _execute(args, manifest: runner.Manifest, run_dir: Path, timeout: float) -> bool:
-    pending = sum(r.status == runner.PENDING for r in manifest.runs)
+def _execute(args, manifest: manifests.Manifest, run_dir: Path, timeout: float) -> bool:
+    pending = sum(r.status == RunStatus.PENDING for r in manifest.runs)
     rich_ok = sys.stdout.isatty() and not args.plain and not os.environ.get("CI")
     observer = RichObserver(pending) if rich_ok and pending else PlainObserver()
     try:
@@ -348,10 +350,10 @@ def _execute(args, manifest: runner.Manifest, run_dir: Path, timeout: float) -> 
             observer.close()
 
 
-def finish(args, manifest: runner.Manifest, run_dir: Path, completed: bool) -> int:
+def finish(args, manifest: manifests.Manifest, run_dir: Path, completed: bool) -> int:
     """Warnings, the summary line, the report, the exit status."""
     counts = manifest.counts()
-    if counts.get(runner.OK):
+    if counts.get(RunStatus.OK):
         # Printed, not stored: the report recomputes them from the data.
         for w in spread_warnings(run_dir):
             print(f"bench: warning: {w}", file=sys.stderr)
@@ -359,14 +361,14 @@ def finish(args, manifest: runner.Manifest, run_dir: Path, completed: bool) -> i
     if not completed:
         missing = manifest.missing()
         print(f"bench: interrupted by {manifest.interrupted_by}: the running configuration was stopped, "
-              f"{counts.get(runner.OK, 0)} finished runs kept, {sum(map(len, missing.values()))} runs of "
+              f"{counts.get(RunStatus.OK, 0)} finished runs kept, {sum(map(len, missing.values()))} runs of "
               f"{len(missing)} configurations missing.\n"
               f"bench: finish them with: scripts/bench --resume {run_dir}\n"
               f"bench: report what finished with: scripts/report.py {run_dir}", file=sys.stderr)
         return 128 + signal.Signals[manifest.interrupted_by].value
-    if counts.get(runner.OK) and not args.no_report:
+    if counts.get(RunStatus.OK) and not args.no_report:
         status = run_report(run_dir, args.report_dir or run_dir / "report")
         if status != 0:
             return 130 if status == 130 else 1
-    return 1 if counts.get(runner.FAILED) or not counts.get(runner.OK) else 0
+    return 1 if counts.get(RunStatus.FAILED) or not counts.get(RunStatus.OK) else 0
 

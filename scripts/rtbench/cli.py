@@ -39,7 +39,7 @@ COMMANDS = {
                      ("numpy", "pandas", "matplotlib", "rich")),
     "report": Command("rtbench.report_writer", "report.py", "the report of finished runs (scripts/report.py)",
                       ("numpy", "pandas", "matplotlib")),
-    "compare": Command("rtbench.compare", "compare.py", "compare two sets of runs: faster, slower or ~ per "
+    "compare": Command("rtbench.compare_cli", "compare.py", "compare two sets of runs: faster, slower or ~ per "
                                                         "configuration (scripts/compare.py)",
                        ("numpy", "pandas", "scipy", "matplotlib", "rich")),
     "gen-scene": Command("rtbench.scenes", "gen_scene.py", "write the committed scenes, or a random one "

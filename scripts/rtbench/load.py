@@ -25,13 +25,11 @@ from pathlib import Path
 import pandas as pd
 
 from rtbench import names
+from rtbench.run_status import NOT_RUN, RunStatus
 
 MANIFEST = "manifest.json"
 FRAMES_DIR = "frames"
 META_SUFFIX = ".meta.json"
-OK = "ok"
-PENDING, INTERRUPTED = "pending", "interrupted"  # runs of an unfinished run that have no data yet
-COMPLETE = "complete"
 
 
 class RunDataError(ValueError):
@@ -208,7 +206,7 @@ def missing_runs(manifest: dict) -> dict[str, list[int]]:
     Failed and unavailable runs ran, and are not missing."""
     missing: dict[str, list[int]] = {}
     for r in manifest.get("runs", []):
-        if r.get("status") in (PENDING, INTERRUPTED):
+        if r.get("status") in NOT_RUN:
             missing.setdefault(str(r.get("config")), []).append(int(r.get("repetition", -1)))
     return missing
 
@@ -221,7 +219,7 @@ def unfinished_note(run_dir: Path, manifest: dict | None) -> str | None:
         return None
     finished: dict[str, int] = {}
     for r in manifest.get("runs", []):
-        if r.get("status") == OK:
+        if r.get("status") == RunStatus.OK:
             finished[r["config"]] = finished.get(r["config"], 0) + 1
     empty = [c for c in missing if not finished.get(c)]
     partial = [f"{c} ({finished[c]} of {finished[c] + len(missing[c])} repetitions)" for c in missing if finished.get(c)]
@@ -243,7 +241,7 @@ def run_entries(run_dir: Path) -> list[tuple[Path, Path, str, int]]:
         return [
             (run_dir / r["csv"], run_dir / r["meta"], r["config"], int(r["repetition"]))
             for r in manifest["runs"]
-            if r.get("status") == OK
+            if r.get("status") == RunStatus.OK
         ]
     entries = []
     for csv_path in sorted(run_dir.rglob("*.csv")):

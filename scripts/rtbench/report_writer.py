@@ -32,6 +32,7 @@ from pathlib import Path
 import pandas as pd
 
 from rtbench import archive, atomic, budget, load, metrics, names, noise, plots, stats, tables, thesis
+from rtbench.run_status import NOT_RUN, RunStatus
 
 TABLES_DIR = "tables"
 PLOTS_DIR = "plots"
@@ -364,8 +365,7 @@ def _unfinished_section(run_dirs: list[Path], manifests: list[dict | None]) -> s
     """Runs that did not produce data: configurations an unfinished run has
     not run yet (one line each), renderers this binary does not have (one
     line each), failures (one line per run)."""
-    not_run = (load.PENDING, load.INTERRUPTED)
-    rows = [r for m in manifests if m for r in m.get("runs", []) if r.get("status") not in (load.OK, *not_run)]
+    rows = [r for m in manifests if m for r in m.get("runs", []) if r.get("status") not in (RunStatus.OK, *NOT_RUN)]
     missing = [(d, c, reps) for d, m in zip(run_dirs, manifests) if m for c, reps in load.missing_runs(m).items()]
     if not rows and not missing:
         return ""
@@ -375,7 +375,7 @@ def _unfinished_section(run_dirs: list[Path], manifests: list[dict | None]) -> s
                      f"`scripts/bench --resume {run_dir}` runs it |")
     unavailable: dict[str, list[dict]] = {}
     for r in rows:
-        if r.get("status") == "unavailable":
+        if r.get("status") == RunStatus.UNAVAILABLE:
             unavailable.setdefault(r.get("renderer", "?"), []).append(r)
             continue
         lines.append(f"| {r.get('config')} r{r.get('repetition')} | {r.get('status')} | "

@@ -1,8 +1,9 @@
-// libFuzzer entry point of the scene loader (issue 14). Any input must
-// either be refused with a SceneError or give a scene the renderers can
-// take: every number inside the limits of docs/render-model.md section 1,
-// and a camera that stays finite in every frame a run can reach. Anything
-// else (another exception, a sanitizer report, a broken promise) is a crash.
+// libFuzzer entry point of the scene loader. Any input must either be
+// refused with a SceneError (docs/render-model.md section 1, Rejection) or
+// give a scene the renderers can take: every number inside the Limits of
+// that section, and a camera that stays finite in every frame a run can
+// reach. Anything else (another exception, a sanitizer report, a broken
+// promise) is a crash.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

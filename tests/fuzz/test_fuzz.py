@@ -1,4 +1,4 @@
-"""The fuzz harness in the test suite (issue 14, part 3), bounded in time:
+"""The fuzz harness in the test suite, bounded in time so that it fits a test run:
 
 - the libFuzzer target of the scene loader (tests/fuzz/CMakeLists.txt, built
   here with clang into build/fuzz-libfuzzer), run for RT_LIBFUZZER_SECONDS

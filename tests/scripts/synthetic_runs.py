@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rtbench import atomic, load, names
+from rtbench.run_status import ManifestStatus, RunStatus
 
 
 @dataclass(frozen=True)
@@ -100,7 +101,8 @@ def write_run_dir(out: Path, runs: dict[SyntheticConfig, list[list[float]]], war
             atomic.write_json(out / f"{stem}{load.META_SUFFIX}",
                               metadata(run_id, config, warmup, len(times) - warmup, env))
             entries.append({"config": config.id, "repetition": rep, "renderer": config.renderer,
-                            "csv": f"{stem}.csv", "meta": f"{stem}{load.META_SUFFIX}", "status": load.OK})
-    atomic.write_json(out / load.MANIFEST, {"format": 1, "status": "complete", "profile": {"name": "synthetic"},
+                            "csv": f"{stem}.csv", "meta": f"{stem}{load.META_SUFFIX}", "status": RunStatus.OK})
+    atomic.write_json(out / load.MANIFEST, {"format": 1, "status": ManifestStatus.COMPLETE,
+                                            "profile": {"name": "synthetic"},
                                             "host": {"cpu_governors": ["performance"]}, "runs": entries})
     return out

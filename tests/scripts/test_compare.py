@@ -8,7 +8,7 @@ import tarfile
 
 import numpy as np
 import pytest
-from rtbench import compare, compare_output
+from rtbench import compare, compare_cli, compare_input, compare_output
 
 from synthetic_runs import Environment, SyntheticConfig, write_run_dir
 
@@ -33,7 +33,7 @@ def base_runs():
 
 
 def run_compare(capsys, *argv):
-    code = compare.main([str(a) for a in argv], prog="compare.py")
+    code = compare_cli.main([str(a) for a in argv], prog="compare.py")
     out, err = capsys.readouterr()
     return code, out, err
 
@@ -58,7 +58,7 @@ def test_a_ten_percent_slowdown_is_slower(tmp_path, base_runs, capsys):
 def test_a_speedup_is_faster(tmp_path, base_runs):
     base = write_run_dir(tmp_path / "base", base_runs)
     new = write_run_dir(tmp_path / "new", scaled(base_runs, 0.8))
-    cmp = compare.compare_paths([base], [new], compare.Options())
+    cmp = compare_input.compare_paths([base], [new], compare.Options())
     assert list(cmp.rows["verdict"]) == ["faster", "faster"]
     assert cmp.geomean == pytest.approx(0.8)
 
@@ -87,7 +87,7 @@ def test_configurations_on_one_side_only_are_listed(tmp_path, base_runs):
     base = write_run_dir(tmp_path / "base", {**base_runs, EXTRA: frame_times(5.0, 3)})
     only_new = SyntheticConfig(renderer="simd_tbb", threads=1, lanes=16)
     new = write_run_dir(tmp_path / "new", {FAST: base_runs[FAST], only_new: frame_times(20.0, 4)})
-    cmp = compare.compare_paths([base], [new], compare.Options())
+    cmp = compare_input.compare_paths([base], [new], compare.Options())
     assert list(cmp.rows["label"]) == ["random20/simd_tbb/optimized/t2/l16"]
     assert cmp.only_base == ["default/simd_tbb/optimized/t2/l16", "random20/sequential/optimized"]
     assert cmp.only_new == ["random20/simd_tbb/optimized/t1/l16"]
@@ -100,7 +100,7 @@ def test_environment_differences_come_from_the_metadata(tmp_path, base_runs):
     other = Environment(cpu_model="Intel Xeon", logical_cores=16, compiler="GNU 14.3.0", git_commit="b" * 40,
                         device="NVIDIA H200", libraries={"onetbb": "2022.0.0"})
     new = write_run_dir(tmp_path / "new", base_runs, env=other)
-    cmp = compare.compare_paths([base], [new], compare.Options())
+    cmp = compare_input.compare_paths([base], [new], compare.Options())
     differences = {fact: (b, n) for fact, b, n in cmp.differences}
     assert differences["CPU"] == (["Synthetic CPU"], ["Intel Xeon"])
     assert differences["logical cores"] == (["2"], ["16"])
@@ -118,9 +118,9 @@ def test_all_cores_matches_each_machines_whole_cpu(tmp_path, base_runs):
     whole = SyntheticConfig(renderer="simd_tbb", threads=16, lanes=16)
     new = write_run_dir(tmp_path / "new", {whole: frame_times(2.0, 5), SLOW: base_runs[SLOW]},
                         env=Environment(logical_cores=16))
-    exact = compare.compare_paths([base], [new], compare.Options())
+    exact = compare_input.compare_paths([base], [new], compare.Options())
     assert exact.only_base == ["random20/simd_tbb/optimized/t2/l16"]
-    matched = compare.compare_paths([base], [new], compare.Options(all_cores=True))
+    matched = compare_input.compare_paths([base], [new], compare.Options(all_cores=True))
     assert "random20/simd_tbb/optimized/t2→16/l16" in list(matched.rows["label"]) and not matched.only_base
 
 
@@ -148,7 +148,7 @@ def test_a_corrupted_csv_is_exit_2_naming_the_file(tmp_path, base_runs, capsys):
 def test_bad_arguments_are_exit_2(tmp_path, capsys):
     for argv in ([tmp_path], [tmp_path, tmp_path, tmp_path], [tmp_path, tmp_path, "--alpha", "2"]):
         with pytest.raises(SystemExit) as stop:
-            compare.main([str(a) for a in argv], prog="compare.py")
+            compare_cli.main([str(a) for a in argv], prog="compare.py")
         assert stop.value.code == 2
 
 
@@ -157,7 +157,7 @@ def test_a_run_archive_compares_as_its_directory(tmp_path, base_runs):
     packed = tmp_path / "packed.tar.xz"
     with tarfile.open(packed, "w:xz") as tar:
         tar.add(base, arcname=base.name)
-    cmp = compare.compare_paths([packed], [base], compare.Options())
+    cmp = compare_input.compare_paths([packed], [base], compare.Options())
     assert set(cmp.rows["verdict"]) == {"~"} and cmp.base.run_names == [base.name]
 
 

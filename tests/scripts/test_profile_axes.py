@@ -7,7 +7,7 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
-from rtbench import profiles
+from rtbench import configurations, profiles
 
 SCENES = [Path("scenes/default.json"), Path("scenes/random100.json")]
 
@@ -22,7 +22,7 @@ def test_an_override_matches_thread_counts_and_lane_widths():
     p = profile(renderers={"simd_tbb": {"threads": [1, 2, 4], "lanes": [4, "native"]}},
                 overrides=[{"scenes": ["default"], "threads": [1, 2], "skip": True},
                            {"lanes": ["native"], "threads": [4], "frames": 9}])
-    configs = {c.id: c for c in profiles.expand(p, SCENES, 4)}
+    configs = {c.id: c for c in configurations.expand(p, SCENES, 4)}
     assert sorted(i for i in configs if i.startswith("default-")) == [
         "default-simd_tbb-optimized-threads4-lanes4", "default-simd_tbb-optimized-threads4-lanesnative",
         "default-simd_tbb-original-threads4-lanes4", "default-simd_tbb-original-threads4-lanesnative"]
@@ -34,7 +34,7 @@ def test_an_override_matches_thread_counts_and_lane_widths():
 def test_an_override_naming_an_axis_never_matches_a_renderer_without_it():
     p = profile(renderers={"sequential": {}, "tbb_only": {"threads": [1, 2]}},
                 overrides=[{"threads": [1], "skip": True}])
-    ids = [c.id for c in profiles.expand(p, SCENES[:1], 2)]
+    ids = [c.id for c in configurations.expand(p, SCENES[:1], 2)]
     assert "default-sequential-original" in ids and "default-tbb_only-original-threads1" not in ids
 
 
@@ -47,7 +47,7 @@ def test_override_axis_values_are_checked(override, message):
 
 def test_the_size_axis_sets_width_and_height_and_names_the_configuration():
     p = profile(renderers={"gpu": {"size": ["800x600", "1920x1080"]}})
-    configs = {c.id: c for c in profiles.expand(p, SCENES[:1], 2)}
+    configs = {c.id: c for c in configurations.expand(p, SCENES[:1], 2)}
     big = configs["default-gpu-optimized-size1920x1080"]
     assert (big.width, big.height) == (1920, 1080)
     argv = big.argv(Path("raytracer"), Path("x.csv"), Path("x.meta.json"))
@@ -63,7 +63,7 @@ def test_a_malformed_size_names_the_key():
 
 def test_the_gpu_machine_profile_on_16_cores():
     p = profiles.load_profile("gpu-machine")
-    configs = profiles.expand(p, [profiles.resolve_scene(s) for s in p.scenes], 16)
+    configs = configurations.expand(p, [profiles.resolve_scene(s) for s in p.scenes], 16)
     assert Counter(c.renderer for c in configs) == {"sequential": 9, "simd_tbb": 18, "simd_only": 10, "tbb_only": 13,
                                                      "gpu": 18, "embree": 9}
     scaling = [c for c in configs if dict(c.axes).get("threads") not in (None, "16") or dict(c.axes).get("lanes") == "4"]
@@ -84,7 +84,7 @@ def test_an_override_of_a_thread_count_does_not_reach_all_cores_of_that_count():
     give the same command line it runs once."""
     p = profile(renderers={"tbb_only": {"threads": [1, 2, "all"]}},
                 overrides=[{"scenes": ["default"], "threads": [1, 2], "skip": True}])
-    ids = [c.id for c in profiles.expand(p, SCENES, 2)]
+    ids = [c.id for c in configurations.expand(p, SCENES, 2)]
     assert sorted(i for i in ids if i.startswith("default-")) == [
         "default-tbb_only-optimized-threads2", "default-tbb_only-original-threads2"]
     assert sorted(i for i in ids if i.startswith("random100-")) == [
@@ -98,7 +98,7 @@ def test_the_gpu_machine_profile_on_our_2_cores_keeps_the_paper_matrix_on_all_co
     threads 2 (all cores here); the scaling points only on random100 /
     optimized."""
     p = profiles.load_profile("gpu-machine")
-    configs = profiles.expand(p, [profiles.resolve_scene(s) for s in p.scenes], 2)
+    configs = configurations.expand(p, [profiles.resolve_scene(s) for s in p.scenes], 2)
     for renderer in ("simd_tbb", "tbb_only", "embree"):
         cells = {(c.scene, c.variant.label) for c in configs
                  if c.renderer == renderer and dict(c.axes)["threads"] == "2" and dict(c.axes).get("lanes") != "4"}

@@ -10,7 +10,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
-from rtbench import progress, runner
+from rtbench import builder, progress
 
 FIXTURES = Path(__file__).parent / "fixtures" / "ninja"
 
@@ -123,12 +123,12 @@ def test_the_bench_runners_build_prints_progress_and_raises_with_the_whole_outpu
     for name, text in PROJECT.items():
         (tmp_path / name).write_text(textwrap.dedent(text))
     out = io.StringIO()
-    binary = runner.build("p", tmp_path, 2, out)
+    binary = builder.build("p", tmp_path, 2, out)
     assert binary == tmp_path / "build/p/raytracer" and binary.is_file()
     lines = out.getvalue().splitlines()
     assert lines[0] == "bench: configuring preset p" and lines[-1].startswith("bench: building preset p: ran 14 of 14 ")
 
     (tmp_path / "f3.c").write_text("int f3(void) { return undeclared_name; }\n")
-    with pytest.raises(runner.BuildError) as failed:
-        runner.build("p", tmp_path, 1, io.StringIO())
+    with pytest.raises(builder.BuildError) as failed:
+        builder.build("p", tmp_path, 1, io.StringIO())
     assert "undeclared_name" in str(failed.value) and "FAILED:" in str(failed.value)

@@ -107,13 +107,13 @@ def test_the_cross_machine_example_in_docs_is_compares_output(repo_root, tmp_pat
     """Every line of the output pasted into docs/compare.md (between its
     heading and 'How to read it') is a line of what compare writes for the
     two committed runs today: the example is real and stays so."""
-    from rtbench import compare
+    from rtbench import compare_cli
 
     doc = (repo_root / "docs/compare.md").read_text().split("## Worked example: two machines", 1)[1]
     pasted = doc.split("#### Comparison: new vs base", 1)[1].split("How to read it:", 1)[0]
     lines = [line for line in pasted.splitlines() if line and not line.startswith("*(")]  # the omission note
     assert len(lines) > 80
     base, new = (str(repo_root / run) for run in CROSS_MACHINE)
-    assert compare.main([base, new, "--all-cores", "-o", str(tmp_path), "-q"]) == 0
+    assert compare_cli.main([base, new, "--all-cores", "-o", str(tmp_path), "-q"]) == 0
     written = set((tmp_path / "compare.md").read_text().splitlines())
     assert [line for line in lines if line not in written] == []

@@ -5,7 +5,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
-from rtbench import names, profiles, schema
+from rtbench import configurations, names, profiles, schema
 from rtbench.profiles import ProfileError
 
 SHIPPED = sorted(p.stem for p in profiles.PROFILES_DIR.glob("*.toml"))
@@ -14,7 +14,7 @@ SHIPPED = sorted(p.stem for p in profiles.PROFILES_DIR.glob("*.toml"))
 def _expand(name, cpu_count=2, **kw):
     profile = profiles.load_profile(name)
     scenes = [profiles.resolve_scene(s) for s in profile.scenes]
-    return profile, profiles.expand(profile, scenes, cpu_count, **kw)
+    return profile, configurations.expand(profile, scenes, cpu_count, **kw)
 
 
 def test_the_required_profiles_exist():
@@ -52,11 +52,11 @@ def test_scaling_runs_every_thread_count_and_both_lane_widths():
 
 
 def test_threads_values():
-    assert profiles.parse_threads("all", 6) == [6]
-    assert profiles.parse_threads("2..all", 4) == [2, 3, 4]
-    assert profiles.parse_threads(3, 4) == [3]
+    assert configurations.parse_threads("all", 6) == [6]
+    assert configurations.parse_threads("2..all", 4) == [2, 3, 4]
+    assert configurations.parse_threads(3, 4) == [3]
     with pytest.raises(ProfileError):
-        profiles.parse_threads("zero", 4)
+        configurations.parse_threads("zero", 4)
 
 
 def test_overrides_change_frames_of_matching_cells_only():
@@ -74,15 +74,15 @@ def test_forced_values_and_renderer_filter_win():
 
 def test_round_robin_alternates_renderers_and_shuffle_is_seeded():
     _, configs = _expand("quick")
-    order = profiles.schedule(configs, 2, "round-robin", 1)
+    order = configurations.schedule(configs, 2, "round-robin", 1)
     assert [rep for rep, _ in order] == [0] * len(configs) + [1] * len(configs)
     firsts = [c.renderer for _, c in order[: len(names.RENDERERS)]]
     assert firsts == names.RENDERERS  # consecutive runs change renderer
-    a = profiles.schedule(configs, 2, "shuffle", 5)
-    assert a == profiles.schedule(configs, 2, "shuffle", 5)
-    assert a != profiles.schedule(configs, 2, "shuffle", 6)
+    a = configurations.schedule(configs, 2, "shuffle", 5)
+    assert a == configurations.schedule(configs, 2, "shuffle", 5)
+    assert a != configurations.schedule(configs, 2, "shuffle", 6)
     assert sorted(c.id for _, c in a) == sorted(c.id for _, c in order)
-    blocked = profiles.schedule(configs, 2, "blocked", 1)
+    blocked = configurations.schedule(configs, 2, "blocked", 1)
     assert blocked[0][1] == blocked[1][1]
 
 
@@ -163,7 +163,7 @@ def test_a_renderer_takes_exactly_the_options_the_schema_gives_it(tmp_path, rend
             profiles.load_profile(str(path))
         return
     profile = profiles.load_profile(str(path))
-    (config,) = profiles.expand(profile, [profiles.resolve_scene("default")], cpu_count=2)
+    (config,) = configurations.expand(profile, [profiles.resolve_scene("default")], cpu_count=2)
     argv = config.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
     flag = schema.renderer_options()[option]
     assert argv[argv.index(flag) + 1] == str(value)
@@ -187,12 +187,12 @@ def test_accels_are_an_axis_passed_as_accel(tmp_path):
         accels = [{names.ACCELS[-1]!r}]
         frames = 9
     """.replace("'", '"'))
-    configs = profiles.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
+    configs = configurations.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
     assert [c.accel for c in configs] == names.ACCELS
     assert len({c.id for c in configs}) == len(configs)
     for c in configs:
         argv = c.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
-        assert argv[argv.index(profiles.ACCEL_FLAG) + 1] == c.accel
+        assert argv[argv.index(configurations.ACCEL_FLAG) + 1] == c.accel
         assert c.describe()["accel"] == c.accel
         assert c.frames == (9 if c.accel == names.ACCELS[-1] else 5)  # overrides match on accels
 
@@ -207,7 +207,7 @@ def test_a_renderer_with_its_own_structure_runs_once_with_it(tmp_path):
         [renderers.{own}]
         [renderers.sequential]
     """.replace("'", '"'))
-    configs = profiles.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
+    configs = configurations.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
     assert [c.accel for c in configs if c.renderer == own] == [accel]
     assert sorted(c.accel for c in configs if c.renderer == "sequential") == sorted(names.ACCELS)
 
