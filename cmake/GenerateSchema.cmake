@@ -76,6 +76,65 @@ function(rt_renderer_definition out json i)
   set(${out} "    RendererDefinition{\"${flag}\",${pair} ${mask}, ${own}},\n" PARENT_SCOPE)
 endfunction()
 
+# "accel_structure" -> "AccelStructure"
+function(rt_pascal_case out name)
+  string(REPLACE "_" ";" parts "${name}")
+  set(result "")
+  foreach(part IN LISTS parts)
+    string(SUBSTRING "${part}" 0 1 first)
+    string(TOUPPER "${first}" first)
+    string(SUBSTRING "${part}" 1 -1 rest)
+    string(APPEND result "${first}${rest}")
+  endforeach()
+  set(${out} "${result}" PARENT_SCOPE)
+endfunction()
+
+# The keys of the metadata object at the member path given after `prefix`
+# (an entry with "fields"): enum class <prefix><Name>Key and its name table,
+# then the same for each of its fields that has fields of its own.
+function(rt_metadata_key_blocks out json prefix)
+  set(path ${ARGN})
+  string(JSON name GET "${json}" ${path} name)
+  rt_pascal_case(pascal "${name}")
+  set(enum_name "${prefix}${pascal}")
+  rt_json_names(fields "${json}" "${path};fields")
+  rt_enum_block(blocks "${enum_name}Key" "${fields}")
+  string(JSON count LENGTH "${json}" ${path} fields)
+  math(EXPR last "${count} - 1")
+  foreach(i RANGE ${last})
+    string(JSON nested ERROR_VARIABLE flat GET "${json}" ${path} fields ${i} fields)
+    if(NOT flat)
+      rt_metadata_key_blocks(nested_blocks "${json}" "${enum_name}" ${path} fields ${i})
+      string(APPEND blocks "${nested_blocks}")
+    endif()
+  endforeach()
+  set(${out} "${blocks}" PARENT_SCOPE)
+endfunction()
+
+# The keys inside the run metadata's objects (run_metadata[].fields), in a
+# header of their own: only the metadata writer needs them.
+function(rt_generate_metadata_keys_header json_path header_path)
+  file(READ "${json_path}" json)
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${json_path}")
+  string(JSON count LENGTH "${json}" run_metadata)
+  math(EXPR last "${count} - 1")
+  set(blocks "")
+  foreach(i RANGE ${last})
+    string(JSON fields ERROR_VARIABLE flat GET "${json}" run_metadata ${i} fields)
+    if(NOT flat)
+      rt_metadata_key_blocks(entry_blocks "${json}" Metadata run_metadata ${i})
+      string(APPEND blocks "${entry_blocks}")
+    endif()
+  endforeach()
+  set(content
+"// Generated from schema/rt_schema.json by cmake/GenerateSchema.cmake. Do not edit.\n\
+// The keys of each run metadata object: enum class Metadata<Object>Key (Metadata<Object><Field>Key for\n\
+// an object inside one) and its names, in schema order.\n\
+#pragma once\n#include <array>\n#include <cstddef>\n#include <string_view>\n\nnamespace rt::schema {\n\n\
+${blocks}}  // namespace rt::schema\n")
+  file(CONFIGURE OUTPUT "${header_path}" CONTENT "${content}")
+endfunction()
+
 function(rt_generate_schema_header json_path header_path)
   file(READ "${json_path}" json)
   set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${json_path}")

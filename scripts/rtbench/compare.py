@@ -222,8 +222,9 @@ def compare_sides(base: Side, new: Side, options: Options) -> Comparison:
 # --- environment -------------------------------------------------------------------
 
 def _device_driver(device: dict) -> str | None:
-    text = " ".join(str(device.get(k) or "") for k in ("driver_name", "driver_version")).strip()
-    info = device.get("driver_info")
+    driver = (names.META_DEVICE_DRIVER_NAME, names.META_DEVICE_DRIVER_VERSION)
+    text = " ".join(str(device.get(k) or "") for k in driver).strip()
+    info = device.get(names.META_DEVICE_DRIVER_INFO)
     return f"{text} ({info})" if info and info not in text else text or None
 
 
@@ -235,26 +236,26 @@ def _git(build: dict) -> str | None:
 
 
 def _nix(build: dict) -> str:
-    nix = build.get("nix")
-    return f"yes (nixpkgs {nix.get('nixpkgs_rev', 'unknown')})" if isinstance(nix, dict) else "no"
+    nix = build.get(names.META_BUILD_NIX)
+    return f"yes (nixpkgs {nix.get(names.META_NIXPKGS_REV, 'unknown')})" if isinstance(nix, dict) else "no"
 
 
 # The facts read from each run's metadata sidecar: (name, value of a sidecar).
 METADATA_FACTS = [
-    ("CPU", lambda m: (m.get(names.META_HOST) or {}).get("cpu_model")),
-    ("logical cores", lambda m: (m.get(names.META_HOST) or {}).get("logical_cores")),
-    ("OS", lambda m: (m.get(names.META_HOST) or {}).get("os")),
-    ("kernel", lambda m: (m.get(names.META_HOST) or {}).get("kernel")),
-    ("compiler", lambda m: (m.get(names.META_BUILD) or {}).get("compiler")),
-    ("compiler flags", lambda m: (m.get(names.META_BUILD) or {}).get("compiler_flags")),
-    ("build type", lambda m: (m.get(names.META_BUILD) or {}).get("build_type")),
-    ("version", lambda m: (m.get(names.META_BUILD) or {}).get("version")),
+    ("CPU", lambda m: (m.get(names.META_HOST) or {}).get(names.CPU_MODEL)),
+    ("logical cores", lambda m: (m.get(names.META_HOST) or {}).get(names.LOGICAL_CORES)),
+    ("OS", lambda m: (m.get(names.META_HOST) or {}).get(names.META_HOST_OS)),
+    ("kernel", lambda m: (m.get(names.META_HOST) or {}).get(names.META_HOST_KERNEL)),
+    ("compiler", lambda m: (m.get(names.META_BUILD) or {}).get(names.META_BUILD_COMPILER)),
+    ("compiler flags", lambda m: (m.get(names.META_BUILD) or {}).get(names.META_BUILD_COMPILER_FLAGS)),
+    ("build type", lambda m: (m.get(names.META_BUILD) or {}).get(names.BUILD_TYPE)),
+    ("version", lambda m: (m.get(names.META_BUILD) or {}).get(names.META_BUILD_VERSION)),
     ("git commit", lambda m: _git(m.get(names.META_BUILD) or {})),
     ("Nix", lambda m: _nix(m.get(names.META_BUILD) or {})),
-    ("SIMD target", lambda m: (m.get(names.META_CONFIG) or {}).get("simd_target") or None),
-    ("Vulkan device", lambda m: (m.get("device") or {}).get("name")),
-    ("Vulkan driver", lambda m: _device_driver(m.get("device") or {})),
-    ("Vulkan API", lambda m: (m.get("device") or {}).get("api_version")),
+    ("SIMD target", lambda m: (m.get(names.META_CONFIG) or {}).get(names.META_CONFIG_SIMD_TARGET) or None),
+    ("Vulkan device", lambda m: (m.get(names.META_DEVICE) or {}).get(names.META_DEVICE_NAME)),
+    ("Vulkan driver", lambda m: _device_driver(m.get(names.META_DEVICE) or {})),
+    ("Vulkan API", lambda m: (m.get(names.META_DEVICE) or {}).get(names.META_DEVICE_API_VERSION)),
 ]
 
 
@@ -275,7 +276,7 @@ def environment(runs: Iterable[tuple[dict, list[dict]]]) -> dict[str, list[str]]
         for meta in metas:
             for fact, read in METADATA_FACTS:
                 add(fact, read(meta))
-            for library, version in sorted((meta.get("libraries") or {}).items()):
+            for library, version in sorted((meta.get(names.META_LIBRARIES) or {}).items()):
                 add(f"library {library}", version)
     return {fact: sorted(values) for fact, values in facts.items()}
 

@@ -153,9 +153,9 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     frames[names.SPHERES] = _sphere_count(meta_path, meta)
     frames[names.REPETITION] = repetition
     frames[names.CONFIG_ID] = config_id
-    frames[names.BUILD_TYPE] = str(build.get("build_type", ""))
-    frames[names.CPU_MODEL] = str(host.get("cpu_model", ""))
-    frames[names.LOGICAL_CORES] = int(host.get("logical_cores") or 0)
+    frames[names.BUILD_TYPE] = str(build.get(names.BUILD_TYPE, ""))
+    frames[names.CPU_MODEL] = str(host.get(names.CPU_MODEL, ""))
+    frames[names.LOGICAL_CORES] = int(host.get(names.LOGICAL_CORES) or 0)
     frames[names.GIT_COMMIT] = str(build.get(names.GIT_COMMIT, ""))
     frames[names.GIT_DIRTY] = bool(build.get(names.GIT_DIRTY, False))
     frames[names.SOURCE] = source
@@ -176,11 +176,12 @@ def _check_against_meta(csv_path: Path, meta_path: Path, columns: dict, meta: di
     if meta.get(names.META_RUN_ID) != run_id:
         raise RunDataError(f"{csv_path}: run_id {run_id} differs from its metadata {meta_path} ({meta.get(names.META_RUN_ID)})")
     config = meta[names.META_CONFIG]
-    expected = config.get("warmup_frames", 0) + config.get("measured_frames", 0)
+    warmup, measured = names.META_CONFIG_WARMUP_FRAMES, names.META_CONFIG_MEASURED_FRAMES
+    expected = config.get(warmup, 0) + config.get(measured, 0)
     if expected and expected != len(columns[names.FRAME]):
         raise RunDataError(
             f"{csv_path}: {len(columns[names.FRAME])} frames, but {meta_path} says "
-            f"{config.get('warmup_frames')} warm-up + {config.get('measured_frames')} measured (truncated?)"
+            f"{config.get(warmup)} warm-up + {config.get(measured)} measured (truncated?)"
         )
 
 

@@ -27,6 +27,14 @@ def _meta_key(name: str) -> str:
     return name
 
 
+def _meta_field(*path: str) -> str:
+    """A key inside a metadata object (path: the object's key, then the key in
+    it) that the library needs; fails if the schema lacks it."""
+    if path[-1] not in schema.run_metadata_fields(*path[:-1]):
+        raise ImportError(f"rtbench needs metadata key {'.'.join(path)!r}, which schema/rt_schema.json does not define")
+    return path[-1]
+
+
 # Frame CSV columns with a role in the statistics.
 RUN_ID = _column("run_id")
 SCENE = _column("scene")
@@ -56,20 +64,38 @@ META_BUILD = _meta_key("build")
 META_HOST = _meta_key("host")
 META_SCENE = _meta_key("scene")
 META_RUN_ID = _meta_key("run_id")
-# In the metadata's scene object: the scene's sphere count.
-META_SCENE_SPHERES = "spheres"
+META_DEVICE = _meta_key("device")
+META_LIBRARIES = _meta_key("libraries")
+# Keys inside the metadata's objects.
+META_SCENE_SPHERES = _meta_field(META_SCENE, "spheres")
+META_CONFIG_WARMUP_FRAMES = _meta_field(META_CONFIG, "warmup_frames")
+META_CONFIG_MEASURED_FRAMES = _meta_field(META_CONFIG, "measured_frames")
+META_CONFIG_SIMD_TARGET = _meta_field(META_CONFIG, "simd_target")
+META_HOST_OS = _meta_field(META_HOST, "os")
+META_HOST_KERNEL = _meta_field(META_HOST, "kernel")
+META_BUILD_VERSION = _meta_field(META_BUILD, "version")
+META_BUILD_COMPILER = _meta_field(META_BUILD, "compiler")
+META_BUILD_COMPILER_FLAGS = _meta_field(META_BUILD, "compiler_flags")
+META_BUILD_NIX = _meta_field(META_BUILD, "nix")
+META_NIXPKGS_REV = _meta_field(META_BUILD, META_BUILD_NIX, "nixpkgs_rev")
+META_DEVICE_NAME = _meta_field(META_DEVICE, "name")
+META_DEVICE_DRIVER_NAME = _meta_field(META_DEVICE, "driver_name")
+META_DEVICE_DRIVER_VERSION = _meta_field(META_DEVICE, "driver_version")
+META_DEVICE_DRIVER_INFO = _meta_field(META_DEVICE, "driver_info")
+META_DEVICE_API_VERSION = _meta_field(META_DEVICE, "api_version")
 
-# Columns the loader adds to the schema's columns (not in the CSV files).
+# Columns the loader adds to the schema's columns (not in the CSV files);
+# those taken from the metadata are named as its keys.
 STAGE = "stage"
 SPHERES = "spheres"  # the scene's sphere count, from the metadata
 REPETITION = "repetition"
 CONFIG_ID = "config_id"
-BUILD_TYPE = "build_type"
-CPU_MODEL = "cpu_model"
-LOGICAL_CORES = "logical_cores"
+BUILD_TYPE = _meta_field(META_BUILD, "build_type")
+CPU_MODEL = _meta_field(META_HOST, "cpu_model")
+LOGICAL_CORES = _meta_field(META_HOST, "logical_cores")
 SOURCE = "source"
-GIT_COMMIT = "git_commit"
-GIT_DIRTY = "git_dirty"
+GIT_COMMIT = _meta_field(META_BUILD, "git_commit")
+GIT_DIRTY = _meta_field(META_BUILD, "git_dirty")
 
 # The columns that identify one configuration in the tidy frame.
 CONFIG_KEYS = [SCENE, SPHERES, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, ACCEL, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,

@@ -60,6 +60,52 @@ def run_metadata_keys() -> list[str]:
     return _names("run_metadata")
 
 
+def run_metadata_fields(*path: str) -> list[str]:
+    """The keys of the metadata object at `path`: ("host",) -> cpu_model, ...;
+    ("build", "nix") -> nixpkgs_rev; ("outputs", "frames") -> the keys of each
+    saved frame. Empty for an object without fixed keys (libraries)."""
+    entries = schema()["run_metadata"]
+    for depth, name in enumerate(path):
+        entry = next((e for e in entries if e["name"] == name), None)
+        if entry is None:
+            raise KeyError(f"schema/rt_schema.json has no metadata key {'.'.join(path[: depth + 1])}")
+        entries = entry.get("fields", [])
+    return [e["name"] for e in entries]
+
+
+def metadata_key_problems(meta: dict) -> list[str]:
+    """Where the keys of a metadata sidecar and the schema's run_metadata
+    differ, at every depth: a key written but not in the schema, or in the
+    schema but not written. Null objects (no device, no window) have no keys."""
+    return _key_problems(meta, schema()["run_metadata"], "")
+
+
+def _key_problems(value: dict, fields: list[dict], where: str) -> list[str]:
+    listed = [f["name"] for f in fields]
+    problems = [f"{where}{k}: written, not in the schema" for k in value if k not in listed]
+    problems += [f"{where}{k}: in the schema, not written" for k in listed if k not in value]
+    for field in fields:
+        problems += _field_problems(value.get(field["name"]), field, f"{where}{field['name']}")
+    return problems
+
+
+def _field_problems(value, field: dict, where: str) -> list[str]:
+    if "fields" not in field:
+        unlisted_object = isinstance(value, dict) and "keyed_by" not in field
+        return [f"{where}: an object, but the schema lists no fields for it"] if unlisted_object else []
+    if isinstance(value, list):  # a list of objects (outputs.frames)
+        return [p for i, item in enumerate(value) for p in _object_problems(item, field, f"{where}[{i}]")]
+    return _object_problems(value, field, where)
+
+
+def _object_problems(value, field: dict, where: str) -> list[str]:
+    if value is None:  # no device, no window, no acceleration structure, not run by Nix
+        return []
+    if not isinstance(value, dict):
+        return [f"{where}: not an object, but the schema lists its fields"]
+    return _key_problems(value, field["fields"], where + ".")
+
+
 def stages() -> dict[str, dict]:
     return {s["name"]: s for s in schema()["stages"]}
 

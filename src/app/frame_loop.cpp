@@ -1,6 +1,7 @@
 #include "app/frame_loop.h"
 
 #include <chrono>
+#include <utility>
 
 #include "core/profiler.h"
 #include "scene/camera.h"
@@ -30,9 +31,8 @@ void plotFrame([[maybe_unused]] const FrameRecord& r, [[maybe_unused]] Extent ex
 }  // namespace
 
 FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config, LiveView* view) {
-  renderer.prepare(scene, config.extent, config.options);
   FrameLoopResult result;
-  result.savedFrames.assign(config.saveFrames.size(), Image(config.extent));
+  result.savedFrames.assign(config.saveFrames.size(), SavedFrame{Image(config.extent)});
   const bool untilClosed = config.untilClosed() && view != nullptr;
   FrameRecorder recorder(static_cast<std::size_t>(untilClosed ? kUntilClosedRecordCapacity : config.totalFrames()));
 
@@ -68,14 +68,16 @@ FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunCo
       if (view) view->frameDone(record);
       // Only saved frames come back to the host, after the timed phases.
       for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
-        if (config.saveFrames[i].frame == k) renderer.readPresented(result.savedFrames[i]);
+        if (config.saveFrames[i].frame != k) continue;
+        renderer.readPresented(result.savedFrames[i].image);
+        result.savedFrames[i].filled = true;
       }
       FrameMark;
     }
   } catch (...) {
     result.failure = std::current_exception();
   }
-  result.records.assign(recorder.records().begin(), recorder.records().end());
+  result.records = std::move(recorder).takeRecords();
   return result;
 }
 

@@ -5,15 +5,23 @@
 
 #include "app/frame_recorder.h"
 #include "app/run_config.h"
+#include "core/image.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
 namespace rt {
 
+// A --save-frame image, allocated before the frames; `filled` once the
+// loop read that frame back (false where the run ended before it).
+struct SavedFrame {
+  Image image;
+  bool filled = false;
+};
+
 struct FrameLoopResult {
-  std::vector<FrameRecord> records;   // the frames that completed
-  std::vector<Image> savedFrames;     // one per config.saveFrames entry, same order
-  std::exception_ptr failure;         // set when a frame threw; records keep what was done
+  std::vector<FrameRecord> records;     // the frames that completed
+  std::vector<SavedFrame> savedFrames;  // one per config.saveFrames entry, same order
+  std::exception_ptr failure;           // set when a frame threw; records keep what was done
 };
 
 // Where a windowed run shows its frames, as the loop sees it: asked before
@@ -35,10 +43,13 @@ class LiveView {
 inline constexpr long long kUntilClosedRecordCapacity = 216'000;
 
 // The application loop: Update -> Render -> Present per frame, warm-up
-// frames first. Everything the loop touches is allocated before it. With a
-// `view` (--window) it also stops when the window is closed, and with
-// --frames 0 only then.
-FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config,
+// frames first, on a renderer that prepare() was called on for `scene`,
+// config.extent and config.options (the run's identity records what
+// prepare() built, so the caller prepares it before building that).
+// Everything the loop touches is allocated before it. With a `view`
+// (--window) it also stops when the window is closed, and with --frames 0
+// only then.
+FrameLoopResult runFrameLoop(Renderer& prepared, const Scene& scene, const RunConfig& config,
                              LiveView* view = nullptr);
 
 }  // namespace rt

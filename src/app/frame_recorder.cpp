@@ -3,6 +3,8 @@
 #include <charconv>
 #include <stdexcept>
 
+#include "app/run_identity.h"
+
 namespace rt {
 namespace {
 

@@ -1,15 +1,14 @@
 #pragma once
+#include <cstddef>
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "core/image.h"
-#include "gpu/device_info.h"
-#include "gpu/window_presentation.h"
-#include "render/renderer.h"
-
 namespace rt {
+
+struct RunIdentity;
 
 // One frame's timings; the CSV's per-frame columns.
 struct FrameRecord {
@@ -22,21 +21,6 @@ struct FrameRecord {
   std::optional<double> acquireMs;  // --window: the part of presentMs spent waiting for a swapchain image
 };
 
-// What every row of a run shares.
-struct RunIdentity {
-  std::string runId;
-  std::string scene;
-  RendererInfo renderer;
-  RenderOptions options;
-  Extent extent;
-  PresentMode present = PresentMode::none;
-  std::string presentReason{};            // why this present mode (metadata)
-  std::optional<gpu::DeviceInfo> device{};  // the Vulkan device used, if any
-  bool validation = false;                // Vulkan validation layer on
-  std::optional<gpu::SwapchainInfo> swapchain{};  // --window: the window's swapchain
-  bool windowClosed = false;              // --window: closed before the last frame (or --frames 0)
-};
-
 // Holds every frame's record in storage sized before the frame loop, so
 // recording allocates nothing and does no I/O; the CSV is written after.
 class FrameRecorder {
@@ -47,6 +31,8 @@ class FrameRecorder {
     if (records_.size() < records_.capacity()) records_.push_back(r);  // never grows: no allocation
   }
   [[nodiscard]] std::span<const FrameRecord> records() const { return records_; }
+  // The records, handed over without a copy once the frames are done.
+  [[nodiscard]] std::vector<FrameRecord> takeRecords() && { return std::move(records_); }
 
  private:
   std::vector<FrameRecord> records_;

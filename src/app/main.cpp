@@ -1,17 +1,18 @@
 // raytracer: loads a scene, runs the frame loop with the chosen renderer,
 // then writes the per-frame CSV, the metadata sidecar and saved frames.
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
 #include <iostream>
+#include <optional>
 #include <vector>
 
 #include "app/cli.h"
 #include "app/device_setup.h"
 #include "app/frame_loop.h"
 #include "app/renderer_factory.h"
+#include "app/run_identity.h"
 #include "app/run_metadata.h"
 #include "app/run_summary.h"
 #include "core/atomic_file.h"
@@ -28,14 +29,14 @@ namespace {
 constexpr int kExitRuntimeError = 1;
 
 void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, const rt::Scene& scene,
-                  const rt::FrameLoopResult& result, const rt::RunTimes& times) {
+                  const rt::FrameLoopResult& result, const rt::RunTimes& times,
+                  const std::optional<rt::WindowOutcome>& window) {
   if (config.csvPath) rt::writeFileAtomically(*config.csvPath, rt::formatFrameCsv(identity, result.records));
   if (const auto meta = rt::metadataPathFor(config)) {
-    rt::writeFileAtomically(*meta, rt::makeRunMetadata(config, identity, scene, times).dump(2) + "\n");
+    rt::writeFileAtomically(*meta, rt::makeRunMetadata(config, identity, scene, times, window).dump(2) + "\n");
   }
   for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
-    const bool rendered = std::ranges::any_of(result.records, [&](const auto& r) { return r.frame == config.saveFrames[i].frame; });
-    if (rendered) rt::writePng(result.savedFrames[i], config.saveFrames[i].file);
+    if (result.savedFrames[i].filled) rt::writePng(result.savedFrames[i].image, config.saveFrames[i].file);
   }
 }
 
@@ -85,15 +86,10 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
   auto renderer = rt::makeRenderer(config.renderer, config.parallel, setup.present);
 
   rt::RunTimes times{std::chrono::system_clock::now(), {}};
-  rt::RunIdentity identity{rt::makeRunId(times.startedAt), scene.name, renderer->info(), config.options,
-                           config.extent};
-  identity.present = setup.present.mode;
-  identity.presentReason = setup.presentReason;
-  if (setup.present.device) {
-    identity.device = setup.present.device->info();
-    identity.validation = setup.present.device->validationEnabled();
-  }
   if (config.tracyWait) waitForTracyViewer();
+  renderer->prepare(scene, config.extent, config.options);
+  const rt::RunIdentity identity =
+      rt::makeRunIdentity(rt::makeRunId(times.startedAt), scene, *renderer, config, setup);
   [[maybe_unused]] const std::string description = describeRun(identity, config);
   TracyMessage(description.data(), description.size());
   rt::LiveView* view = nullptr;
@@ -102,16 +98,13 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
 #endif
   const rt::FrameLoopResult result = rt::runFrameLoop(*renderer, scene, config, view);
   times.finishedAt = std::chrono::system_clock::now();
-  identity.renderer = renderer->info();  // now with what prepare() built
+  std::optional<rt::WindowOutcome> window;
 #if RT_WINDOW
-  if (setup.window) {
-    identity.swapchain = setup.window->swapchainInfo();
-    identity.windowClosed = setup.window->closed();
-  }
+  if (setup.window) window = rt::WindowOutcome{setup.window->swapchainInfo(), setup.window->closed()};
 #endif
 
   // Frames that completed are written even when a later one failed.
-  writeOutputs(config, identity, scene, result, times);
+  writeOutputs(config, identity, scene, result, times, window);
   if (result.failure) std::rethrow_exception(result.failure);
   if (!config.quiet) std::cout << rt::formatRunSummary(identity, rt::summarizeRun(identity.extent, result.records));
   return setup.present.device ? setup.present.device->validationCounter() : nullptr;

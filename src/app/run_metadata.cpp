@@ -2,14 +2,17 @@
 
 #include <sys/utsname.h>
 
+#include <concepts>
 #include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "app/build_info.h"
 #include "core/sha256.h"
+#include "rt_schema_metadata.h"
 
 namespace rt {
 namespace {
@@ -31,6 +34,21 @@ std::string firstValueOf(const std::filesystem::path& file, std::string_view key
   return "";
 }
 
+// An object with exactly the keys the schema lists for it (the generated
+// enum `Key`), each valued by `valueOf`: a schema key without a case in
+// `valueOf` is a -Wswitch warning here, and the binary's sidecars are
+// checked against the schema in tests/app/test_raytracer_cli.py.
+template <typename Key, std::size_t N, std::invocable<Key> ValueOf>
+nlohmann::json objectOf(const std::array<std::string_view, N>& keyNames, ValueOf valueOf) {
+  nlohmann::json object = nlohmann::json::object();
+  for (std::size_t i = 0; i < N; ++i) object[std::string(keyNames[i])] = valueOf(static_cast<Key>(i));
+  return object;
+}
+
+[[noreturn]] void unhandledKey(std::string_view object) {
+  throw std::logic_error("unhandled key of the metadata's " + std::string(object) + " object");
+}
+
 nlohmann::json hostInfo() {
   std::string cpu = firstValueOf("/proc/cpuinfo", "model name", ':');
   if (cpu.empty()) cpu = "unknown";
@@ -41,10 +59,16 @@ nlohmann::json hostInfo() {
     kernel = std::string(u.sysname) + " " + u.release + " " + u.machine;
     if (os.empty()) os = u.sysname;
   }
-  return {{"cpu_model", cpu},
-          {"logical_cores", std::thread::hardware_concurrency()},
-          {"os", os},
-          {"kernel", kernel}};
+  using Key = schema::MetadataHostKey;
+  return objectOf<Key>(schema::kMetadataHostKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::cpu_model: return cpu;
+      case Key::logical_cores: return std::thread::hardware_concurrency();
+      case Key::os: return os;
+      case Key::kernel: return kernel;
+    }
+    unhandledKey("host");
+  });
 }
 
 nlohmann::json libraryVersions() {
@@ -64,75 +88,152 @@ nlohmann::json nixJson() {
   const char* nix = std::getenv("RT_NIX");
   if (nix == nullptr || std::string_view(nix) != "1") return nullptr;
   const char* rev = std::getenv("RT_NIXPKGS_REV");
-  return {{"nixpkgs_rev", rev != nullptr && *rev != '\0' ? rev : "unknown"}};
+  const std::string revision = rev != nullptr && *rev != '\0' ? rev : "unknown";
+  using Key = schema::MetadataBuildNixKey;
+  return objectOf<Key>(schema::kMetadataBuildNixKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::nixpkgs_rev: return revision;
+    }
+    unhandledKey("build.nix");
+  });
 }
 
 nlohmann::json buildJson() {
   const BuildInfo& b = buildInfo();
-  return {{"version", b.version},         {"git_commit", b.gitCommit}, {"git_dirty", b.gitDirty},
-          {"build_type", b.buildType},    {"compiler", b.compiler},    {"compiler_flags", b.compilerFlags},
-          {"nix", nixJson()}};
+  using Key = schema::MetadataBuildKey;
+  return objectOf<Key>(schema::kMetadataBuildKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::version: return b.version;
+      case Key::git_commit: return b.gitCommit;
+      case Key::git_dirty: return b.gitDirty;
+      case Key::build_type: return b.buildType;
+      case Key::compiler: return b.compiler;
+      case Key::compiler_flags: return b.compilerFlags;
+      case Key::nix: return nixJson();
+    }
+    unhandledKey("build");
+  });
+}
+
+nlohmann::json sceneJson(const RunConfig& config, const Scene& scene) {
+  using Key = schema::MetadataSceneKey;
+  return objectOf<Key>(schema::kMetadataSceneKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::name: return scene.name;
+      case Key::path: return config.scenePath.string();
+      case Key::sha256: return scene.sha256;
+      case Key::spheres: return scene.spheres.size();
+    }
+    unhandledKey("scene");
+  });
 }
 
 nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
-  return {{"renderer", nameOf(id.renderer.kind)},
-          {"threads", id.renderer.threads},
-          {"lanes", id.renderer.lanes},
-          {"simd_target", id.renderer.simdTarget},
-          {"grain", id.renderer.grain.value_or(0)},  // as in the CSV: 0 and "" without oneTBB
-          {"partition", id.renderer.partition ? nameOf(*id.renderer.partition) : ""},
-          {"algorithm", nameOf(id.options.algorithm)},
-          {"early_exit", id.options.earlyExits.toString()},
-          {"accel", nameOf(id.options.accel)},
-          {"width", id.extent.width},
-          {"height", id.extent.height},
-          {"warmup_frames", config.warmupFrames},
-          {"measured_frames", config.measuredFrames},
-          {"present", nameOf(id.present)},
-          {"present_reason", id.presentReason}};
+  const RendererInfo& r = id.renderer;
+  using Key = schema::MetadataConfigKey;
+  return objectOf<Key>(schema::kMetadataConfigKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::renderer: return nameOf(r.kind);
+      case Key::threads: return r.threads;
+      case Key::lanes: return r.lanes;
+      case Key::simd_target: return r.simdTarget;
+      case Key::grain: return r.grain.value_or(0);  // as in the CSV: 0 and "" without oneTBB
+      case Key::partition: return r.partition ? nameOf(*r.partition) : "";
+      case Key::algorithm: return nameOf(id.options.algorithm);
+      case Key::early_exit: return id.options.earlyExits.toString();
+      case Key::accel: return nameOf(id.options.accel);
+      case Key::width: return id.extent.width;
+      case Key::height: return id.extent.height;
+      case Key::warmup_frames: return config.warmupFrames;
+      case Key::measured_frames: return config.measuredFrames;
+      case Key::present: return nameOf(id.present);
+      case Key::present_reason: return id.presentReason;
+    }
+    unhandledKey("config");
+  });
 }
 
 nlohmann::json accelStructureJson(const RendererInfo& renderer) {
   if (!renderer.accelStructure) return nullptr;
   const AccelStructureInfo& a = *renderer.accelStructure;
-  return {{"kind", nameOf(a.kind)}, {"build_ms", a.buildMs}, {"nodes", a.nodes}, {"depth", a.depth}};
+  using Key = schema::MetadataAccelStructureKey;
+  return objectOf<Key>(schema::kMetadataAccelStructureKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::kind: return nameOf(a.kind);
+      case Key::build_ms: return a.buildMs;
+      case Key::nodes: return a.nodes;
+      case Key::depth: return a.depth;
+    }
+    unhandledKey("accel_structure");
+  });
 }
 
 nlohmann::json deviceJson(const RunIdentity& id) {
   if (!id.device) return nullptr;
   const gpu::DeviceInfo& d = *id.device;
-  return {{"index", d.index},
-          {"name", d.name},
-          {"type", gpu::nameOf(d.type)},
-          {"vendor_id", d.vendorId},
-          {"device_id", d.deviceId},
-          {"driver_name", d.driverName},
-          {"driver_info", d.driverInfo},
-          {"driver_version", d.driverVersion},
-          {"driver_version_raw", d.driverVersionRaw},
-          {"api_version", d.apiVersion},
-          {"timestamp_period_ns", d.timestampPeriodNs},
-          {"timestamp_valid_bits", d.timestampValidBits},
-          {"validation", id.validation}};
+  using Key = schema::MetadataDeviceKey;
+  return objectOf<Key>(schema::kMetadataDeviceKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::index: return d.index;
+      case Key::name: return d.name;
+      case Key::type: return gpu::nameOf(d.type);
+      case Key::vendor_id: return d.vendorId;
+      case Key::device_id: return d.deviceId;
+      case Key::driver_name: return d.driverName;
+      case Key::driver_info: return d.driverInfo;
+      case Key::driver_version: return d.driverVersion;
+      case Key::driver_version_raw: return d.driverVersionRaw;
+      case Key::api_version: return d.apiVersion;
+      case Key::timestamp_period_ns: return d.timestampPeriodNs;
+      case Key::timestamp_valid_bits: return d.timestampValidBits;
+      case Key::validation: return id.validation;
+    }
+    unhandledKey("device");
+  });
 }
 
-nlohmann::json windowJson(const RunIdentity& id) {
-  if (!id.swapchain) return nullptr;
-  const gpu::SwapchainInfo& w = *id.swapchain;
-  return {{"present_mode", nameOf(w.requested)},
-          {"present_mode_granted", nameOf(w.granted)},
-          {"surface_format", w.surfaceFormat},
-          {"swapchain_images", w.imageCount},
-          {"swapchain_recreations", w.recreations},
-          {"frames_presented", w.framesPresented},
-          {"closed", id.windowClosed}};
+nlohmann::json windowJson(const std::optional<WindowOutcome>& window) {
+  if (!window) return nullptr;
+  const gpu::SwapchainInfo& w = window->swapchain;
+  using Key = schema::MetadataWindowKey;
+  return objectOf<Key>(schema::kMetadataWindowKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::present_mode: return nameOf(w.requested);
+      case Key::present_mode_granted: return nameOf(w.granted);
+      case Key::surface_format: return w.surfaceFormat;
+      case Key::swapchain_images: return w.imageCount;
+      case Key::swapchain_recreations: return w.recreations;
+      case Key::frames_presented: return w.framesPresented;
+      case Key::closed: return window->closed;
+    }
+    unhandledKey("window");
+  });
+}
+
+nlohmann::json savedFrameJson(const SaveFrameRequest& request) {
+  using Key = schema::MetadataOutputsFramesKey;
+  return objectOf<Key>(schema::kMetadataOutputsFramesKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::frame: return request.frame;
+      case Key::file: return request.file.string();
+    }
+    unhandledKey("outputs.frames");
+  });
 }
 
 nlohmann::json outputsJson(const RunConfig& config) {
-  nlohmann::json frames = nlohmann::json::array();
-  for (const auto& s : config.saveFrames) frames.push_back({{"frame", s.frame}, {"file", s.file.string()}});
-  return {{"csv", config.csvPath ? nlohmann::json(config.csvPath->string()) : nlohmann::json(nullptr)},
-          {"frames", frames}};
+  using Key = schema::MetadataOutputsKey;
+  return objectOf<Key>(schema::kMetadataOutputsKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::csv: return config.csvPath ? nlohmann::json(config.csvPath->string()) : nullptr;
+      case Key::frames: {
+        nlohmann::json frames = nlohmann::json::array();
+        for (const auto& s : config.saveFrames) frames.push_back(savedFrameJson(s));
+        return frames;
+      }
+    }
+    unhandledKey("outputs");
+  });
 }
 
 }  // namespace
@@ -161,7 +262,7 @@ std::string makeRunId(std::chrono::system_clock::time_point startedAt) {
 }
 
 nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& identity, const Scene& scene,
-                               const RunTimes& times) {
+                               const RunTimes& times, const std::optional<WindowOutcome>& window) {
   nlohmann::json meta = nlohmann::json::object();
   for (std::size_t i = 0; i < schema::kRunMetadataKeyNames.size(); ++i) {
     const auto key = static_cast<RunMetadataKey>(i);
@@ -170,12 +271,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::schema_version: value = schema::kVersion; break;
       case RunMetadataKey::run_id: value = identity.runId; break;
       case RunMetadataKey::command_line: value = config.commandLine; break;
-      case RunMetadataKey::scene:
-        value = {{"name", scene.name},
-                 {"path", config.scenePath.string()},
-                 {"sha256", scene.sha256},
-                 {"spheres", scene.spheres.size()}};
-        break;
+      case RunMetadataKey::scene: value = sceneJson(config, scene); break;
       case RunMetadataKey::config: value = configJson(config, identity); break;
       case RunMetadataKey::build: value = buildJson(); break;
       case RunMetadataKey::host: value = hostInfo(); break;
@@ -185,7 +281,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::outputs: value = outputsJson(config); break;
       case RunMetadataKey::accel_structure: value = accelStructureJson(identity.renderer); break;
       case RunMetadataKey::device: value = deviceJson(identity); break;
-      case RunMetadataKey::window: value = windowJson(identity); break;
+      case RunMetadataKey::window: value = windowJson(window); break;
     }
   }
   return meta;

@@ -1,10 +1,12 @@
 #pragma once
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
-#include "app/frame_recorder.h"
 #include "app/run_config.h"
+#include "app/run_identity.h"
+#include "gpu/window_presentation.h"
 #include "scene/scene.h"
 
 namespace rt {
@@ -14,6 +16,13 @@ struct RunTimes {
   std::chrono::system_clock::time_point finishedAt;
 };
 
+// --window: what the window's swapchain did over the run, and whether the
+// window was closed before the last frame (known once the frames are done).
+struct WindowOutcome {
+  gpu::SwapchainInfo swapchain;
+  bool closed = false;
+};
+
 // A fresh run identifier: UTC start time plus a random suffix.
 std::string makeRunId(std::chrono::system_clock::time_point startedAt);
 // RFC 3339, UTC, with milliseconds: 2026-11-22T02:14:46.123Z
@@ -21,6 +30,6 @@ std::string formatRfc3339(std::chrono::system_clock::time_point t);
 
 // The JSON sidecar: every key of the schema's run_metadata list.
 nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& identity, const Scene& scene,
-                               const RunTimes& times);
+                               const RunTimes& times, const std::optional<WindowOutcome>& window = std::nullopt);
 
 }  // namespace rt

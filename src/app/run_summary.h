@@ -4,6 +4,7 @@
 #include <string>
 
 #include "app/frame_recorder.h"
+#include "app/run_identity.h"
 
 namespace rt {
 

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <optional>
+#include <thread>
 #include <vector>
 
 #include "render/render_test_support.h"
@@ -22,20 +24,62 @@ RunConfig smallRun() {
   return c;
 }
 
+// The loop runs on a prepared renderer (main prepares it before building
+// the run's identity); the tests prepare it the same way.
+FrameLoopResult prepareAndRun(Renderer& renderer, const Scene& scene, const RunConfig& config,
+                              LiveView* view = nullptr) {
+  renderer.prepare(scene, config.extent, config.options);
+  return runFrameLoop(renderer, scene, config, view);
+}
+
 TEST(FrameLoop, RecordsEveryFrameWithWarmupFlags) {
   const Scene scene = loadScene(smallRun().scenePath);
   SequentialRenderer renderer;
-  const FrameLoopResult r = runFrameLoop(renderer, scene, smallRun());
+  const FrameLoopResult r = prepareAndRun(renderer, scene, smallRun());
   EXPECT_FALSE(r.failure);
   ASSERT_EQ(r.records.size(), 5u);
   for (std::size_t k = 0; k < r.records.size(); ++k) {
     EXPECT_EQ(r.records[k].frame, static_cast<long long>(k));
     EXPECT_EQ(r.records[k].warmup, k < 2);
     EXPECT_GT(r.records[k].renderMs, 0.0);
-    EXPECT_GE(r.records[k].updateMs, 0.0);
-    EXPECT_GE(r.records[k].presentMs, 0.0);
     EXPECT_FALSE(r.records[k].gpuMs);
   }
+}
+
+using Milliseconds = std::chrono::duration<double, std::milli>;
+
+// Render and Present that take at least known times (sleeps), different
+// from each other, so that a phase timed over the wrong interval shows.
+class SleepingRenderer final : public Renderer {
+ public:
+  static constexpr std::chrono::milliseconds kRenderSleep{4};
+  static constexpr std::chrono::milliseconds kPresentSleep{2};
+  RendererInfo info() const override { return {}; }
+  void prepare(const Scene&, Extent, const RenderOptions&) override {}
+  void render(const CameraFrame&) override { std::this_thread::sleep_for(kRenderSleep); }
+  void present() override { std::this_thread::sleep_for(kPresentSleep); }
+  void readPresented(Image&) override {}
+};
+
+// Each phase's time covers its own work (at least the sleep in it), and the
+// phases of all frames, which follow one another, fit in the loop's wall
+// time: a phase timed over a neighbour's interval too would exceed it.
+TEST(FrameLoop, PhaseTimesCoverTheirOwnWorkAndSumWithinTheLoop) {
+  const Scene scene = loadScene(smallRun().scenePath);
+  SleepingRenderer renderer;
+  const auto start = std::chrono::steady_clock::now();
+  const FrameLoopResult r = prepareAndRun(renderer, scene, smallRun());
+  const double loopMs = Milliseconds(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(r.records.size(), 5u);
+  const double renderSleepMs = Milliseconds(SleepingRenderer::kRenderSleep).count();
+  const double presentSleepMs = Milliseconds(SleepingRenderer::kPresentSleep).count();
+  double phasesMs = 0.0;
+  for (const FrameRecord& f : r.records) {
+    EXPECT_GE(f.renderMs, renderSleepMs) << "frame " << f.frame;
+    EXPECT_GE(f.presentMs, presentSleepMs) << "frame " << f.frame;
+    phasesMs += f.updateMs + f.renderMs + f.presentMs;
+  }
+  EXPECT_LE(phasesMs, loopMs);
 }
 
 // The loop's side of a window: open for `openFrames` frames, then closed;
@@ -62,7 +106,7 @@ TEST(FrameLoop, RunsUntilTheViewClosesWithFramesZero) {
   const Scene scene = loadScene(config.scenePath);
   SequentialRenderer renderer;
   ClosingView view(7);
-  const FrameLoopResult r = runFrameLoop(renderer, scene, config, &view);
+  const FrameLoopResult r = prepareAndRun(renderer, scene, config, &view);
   EXPECT_FALSE(r.failure);
   ASSERT_EQ(r.records.size(), 7u) << "every frame before the close is recorded, past warmup + 0";
   EXPECT_EQ(view.shown(), (std::vector<long long>{0, 1, 2, 3, 4, 5, 6}));
@@ -73,10 +117,10 @@ TEST(FrameLoop, ClosingTheViewEndsAFixedRunEarly) {
   const Scene scene = loadScene(smallRun().scenePath);
   SequentialRenderer renderer;
   ClosingView view(2);
-  const FrameLoopResult r = runFrameLoop(renderer, scene, smallRun(), &view);
+  const FrameLoopResult r = prepareAndRun(renderer, scene, smallRun(), &view);
   EXPECT_EQ(r.records.size(), 2u);
   ClosingView stays(100);
-  EXPECT_EQ(runFrameLoop(renderer, scene, smallRun(), &stays).records.size(), 5u) << "no more than asked for";
+  EXPECT_EQ(prepareAndRun(renderer, scene, smallRun(), &stays).records.size(), 5u) << "no more than asked for";
 }
 
 TEST(FrameLoop, SavedFrameIsThatAnimationFrame) {
@@ -84,12 +128,14 @@ TEST(FrameLoop, SavedFrameIsThatAnimationFrame) {
   config.saveFrames = {{3, "unused.png"}, {0, "unused0.png"}};
   const Scene scene = loadScene(config.scenePath);
   SequentialRenderer renderer;
-  const FrameLoopResult r = runFrameLoop(renderer, scene, config);
+  const FrameLoopResult r = prepareAndRun(renderer, scene, config);
   ASSERT_EQ(r.savedFrames.size(), 2u);
   SequentialRenderer fresh;
   for (std::size_t i = 0; i < 2; ++i) {
-    const Image direct = test::renderFrame(fresh, scene, config.extent, config.options, config.saveFrames[i].frame);
-    EXPECT_TRUE(std::ranges::equal(direct.pixels(), r.savedFrames[i].pixels())) << "frame " << config.saveFrames[i].frame;
+    const long long frame = config.saveFrames[i].frame;
+    EXPECT_TRUE(r.savedFrames[i].filled) << "frame " << frame;
+    const Image direct = test::renderFrame(fresh, scene, config.extent, config.options, frame);
+    EXPECT_TRUE(std::ranges::equal(direct.pixels(), r.savedFrames[i].image.pixels())) << "frame " << frame;
   }
 }
 
@@ -113,10 +159,22 @@ class FailingRenderer final : public Renderer {
 TEST(FrameLoop, KeepsCompletedFramesWhenAFrameFails) {
   const Scene scene = loadScene(smallRun().scenePath);
   FailingRenderer renderer(3);
-  const FrameLoopResult r = runFrameLoop(renderer, scene, smallRun());
+  const FrameLoopResult r = prepareAndRun(renderer, scene, smallRun());
   ASSERT_TRUE(r.failure);
   EXPECT_EQ(r.records.size(), 3u);
   EXPECT_THROW(std::rethrow_exception(r.failure), std::runtime_error);
+}
+
+TEST(FrameLoop, SavedFramesTheRunDidNotReachStayUnfilled) {
+  RunConfig config = smallRun();
+  config.saveFrames = {{1, "before.png"}, {4, "after.png"}};
+  const Scene scene = loadScene(config.scenePath);
+  FailingRenderer renderer(3);
+  const FrameLoopResult r = prepareAndRun(renderer, scene, config);
+  ASSERT_TRUE(r.failure);
+  ASSERT_EQ(r.savedFrames.size(), 2u);
+  EXPECT_TRUE(r.savedFrames[0].filled) << "frame 1 completed before the failure";
+  EXPECT_FALSE(r.savedFrames[1].filled) << "frame 4 was never rendered";
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "app/frame_recorder.h"
+#include "app/run_identity.h"
 
 #include <gtest/gtest.h>
 

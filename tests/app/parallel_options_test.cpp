@@ -9,6 +9,7 @@
 #include "app/cli.h"
 #include "app/cli_test_support.h"
 #include "app/frame_recorder.h"
+#include "app/run_identity.h"
 
 namespace rt {
 namespace {

@@ -3,6 +3,7 @@
 import csv
 import hashlib
 import json
+import os
 import subprocess
 
 import pytest
@@ -39,6 +40,22 @@ def test_csv_and_metadata_follow_the_schema(raytracer, repo_root, tmp_path):
     assert meta["started_at"].endswith("Z") and "T" in meta["started_at"]
     assert meta["command_line"][1] == "--sequential"
     assert not list(tmp_path.glob("*.tmp*")), "temporary files left behind"
+
+
+# Runs that fill every metadata object a run without a window can write:
+# scene, config, build (with build.nix), host, outputs (with saved frames),
+# accel_structure, device. The window object: tests/window.
+@pytest.mark.parametrize("args, filled", [(["--sequential", "--accel", "bvh", "--present", "none"], "accel_structure"),
+                                          (["--gpu"], "device")])
+def test_every_nested_metadata_key_is_in_the_schema_and_written(raytracer, repo_root, tmp_path, args, filled):
+    env = {**os.environ, "RT_NIX": "1", "RT_NIXPKGS_REV": "0" * 40}
+    done = subprocess.run([str(a) for a in [raytracer, *args, repo_root / "scenes/random20.json", *SMALL,
+                                            "--csv", tmp_path / "run.csv", "--save-frame", f"1:{tmp_path / 'f1.png'}"]],
+                          capture_output=True, text=True, env=env)
+    assert done.returncode == 0, done.stderr
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    assert meta[filled] is not None and meta["build"]["nix"] is not None and meta["outputs"]["frames"]
+    assert schema.metadata_key_problems(meta) == []
 
 
 def test_explicit_meta_path_and_saved_frames(raytracer, repo_root, tmp_path):

@@ -267,6 +267,7 @@ TEST_F(GpuFrameLoop, FrameLoopRecordsGpuTimeAndReadsBackOnlySavedFrames) {
   const RunConfig config = smallRun();
   gpu::GPURenderer gpu(context(), PresentMode::upload);
   CountingReadbacks counting(gpu);
+  counting.prepare(scene, config.extent, config.options);
   const FrameLoopResult result = runFrameLoop(counting, scene, config);
   ASSERT_FALSE(result.failure);
   ASSERT_EQ(result.records.size(), 4u);
@@ -278,7 +279,8 @@ TEST_F(GpuFrameLoop, FrameLoopRecordsGpuTimeAndReadsBackOnlySavedFrames) {
   }
   SequentialRenderer reference;
   const Image expected = renderFrame(reference, scene, config.extent, config.options, 2);
-  const ImageAgreement agreement = compareImages(result.savedFrames[0], expected);
+  ASSERT_TRUE(result.savedFrames[0].filled);
+  const ImageAgreement agreement = compareImages(result.savedFrames[0].image, expected);
   EXPECT_TRUE(agreement.agrees()) << describe(agreement);
 }
 

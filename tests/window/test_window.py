@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 import pytest
+from rtbench import schema
 
 EXIT_BAD_INPUT = 2
 EXIT_NO_DEVICE = 3
@@ -200,6 +201,7 @@ def test_frames_are_presented_under_validation(windowed, repo_root, tmp_path, di
     assert window["closed"] is False
     assert meta["config"]["present"] == "window"
     assert meta["device"]["validation"] is True
+    assert schema.metadata_key_problems(meta) == []
 
 
 @pytest.mark.parametrize("mode", ["mailbox", "immediate"])
