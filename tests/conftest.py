@@ -21,7 +21,11 @@ def repo_root() -> Path:
 @pytest.fixture(scope="session")
 def raytracer() -> Path:
     """The binary under test: $RT_BINARY, else the debug build, else the release build."""
-    candidates = [os.environ.get("RT_BINARY"), REPO_ROOT / "build/debug/raytracer", REPO_ROOT / "build/release/raytracer"]
+    candidates = [
+        os.environ.get("RT_BINARY"),
+        REPO_ROOT / "build/debug/raytracer",
+        REPO_ROOT / "build/release/raytracer",
+    ]
     for c in candidates:
         if c and Path(c).is_file():
             return Path(c)
@@ -31,8 +35,9 @@ def raytracer() -> Path:
 def has_tracy_client(binary: Path) -> bool:
     """Whether `binary --version` names a Tracy client version ("Tracy client: 0.14.1", not "not built in")."""
     done = subprocess.run([binary, "--version"], capture_output=True, text=True, timeout=60)
-    return any(line.startswith("Tracy client: ") and line.split(": ", 1)[1][:1].isdigit()
-               for line in done.stdout.splitlines())
+    return any(
+        line.startswith("Tracy client: ") and line.split(": ", 1)[1][:1].isdigit() for line in done.stdout.splitlines()
+    )
 
 
 @pytest.fixture(scope="session")
@@ -40,7 +45,11 @@ def tracy_raytracer() -> Path:
     """A binary with the Tracy client built in: $RT_PROFILE_BINARY, else the
     profile preset's build (scripts/test builds it before pytest), else
     $RT_BINARY when that one has it (under Nix it is the profile preset's)."""
-    candidates = [os.environ.get("RT_PROFILE_BINARY"), REPO_ROOT / "build/profile/raytracer", os.environ.get("RT_BINARY")]
+    candidates = [
+        os.environ.get("RT_PROFILE_BINARY"),
+        REPO_ROOT / "build/profile/raytracer",
+        os.environ.get("RT_BINARY"),
+    ]
     for c in candidates:
         if c and Path(c).is_file() and has_tracy_client(Path(c)):
             return Path(c)
@@ -62,8 +71,9 @@ def tmpfs(tmp_path):
     def mount(name: str, size: str) -> Path:
         path = tmp_path / name
         path.mkdir()
-        done = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(path)],
-                              capture_output=True, text=True)
+        done = subprocess.run(
+            ["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(path)], capture_output=True, text=True
+        )
         if done.returncode != 0:
             pytest.skip(f"cannot mount a tmpfs here ({done.stderr.strip() or done.returncode}): the fault needs one")
         mounted.append(path)

@@ -22,8 +22,19 @@ except ModuleNotFoundError:  # Python < 3.11 has no TOML parser; Debian 12 has 3
 
 pytestmark = pytest.mark.skipif(tomllib is None, reason="Python < 3.11 has no tomllib")
 
-ROLES = {"compiler", "build", "library", "test-library", "runtime", "check", "check-dlopen", "python",
-         "python-interpreter", "develop", "lint"}
+ROLES = {
+    "compiler",
+    "build",
+    "library",
+    "test-library",
+    "runtime",
+    "check",
+    "check-dlopen",
+    "python",
+    "python-interpreter",
+    "develop",
+    "lint",
+}
 RELEASES = ("debian12", "debian13")
 # The restricted TOML that scripts/setup-debian's awk reads (dependencies.toml's header).
 LINE = re.compile(r'^(#.*|\[[a-z0-9-]+\]|[a-z0-9]+ = "[^"\\]*"|)$')
@@ -51,16 +62,19 @@ def values_of(deps, key: str) -> set[str]:
 
 
 def test_the_file_keeps_the_format_the_shell_reads(repo_root):
-    bad = [(n, line) for n, line in enumerate((repo_root / "dependencies.toml").read_text().splitlines(), 1)
-           if not LINE.match(line)]
-    assert bad == [], "one `key = \"value\"` per line, no escapes, no inline tables or arrays"
+    bad = [
+        (n, line)
+        for n, line in enumerate((repo_root / "dependencies.toml").read_text().splitlines(), 1)
+        if not LINE.match(line)
+    ]
+    assert bad == [], 'one `key = "value"` per line, no escapes, no inline tables or arrays'
 
 
 def test_every_entry_says_what_it_is_on_every_platform(deps):
     for name, dep in deps.items():
         assert dep.get("role") in ROLES, name
         for key in (*RELEASES, "nix"):
-            assert isinstance(dep.get(key), str), f"{name}: `{key}` missing (\"\" for none)"
+            assert isinstance(dep.get(key), str), f'{name}: `{key}` missing ("" for none)'
         if not all(dep[key] for key in (*RELEASES, "nix")):
             assert dep.get("why"), f"{name}: absent on a platform without a `why`"
         if dep["role"] == "python":
@@ -69,15 +83,24 @@ def test_every_entry_says_what_it_is_on_every_platform(deps):
 
 @pytest.mark.parametrize("release", RELEASES)
 def test_setup_debian_reads_the_same_packages_as_a_toml_parser(repo_root, deps, release):
-    listed = subprocess.run([str(repo_root / "scripts/setup-debian"), "--list"], capture_output=True, text=True,
-                            env=dict(os.environ, RT_DEBIAN_RELEASE=release.removeprefix("debian")), check=True)
+    listed = subprocess.run(
+        [str(repo_root / "scripts/setup-debian"), "--list"],
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, RT_DEBIAN_RELEASE=release.removeprefix("debian")),
+        check=True,
+    )
     expected = list(dict.fromkeys(w for dep in deps.values() for w in words(dep[release])))
     assert listed.stdout.split() == expected
 
 
 def test_setup_debian_refuses_a_release_it_has_no_column_for(repo_root):
-    done = subprocess.run([str(repo_root / "scripts/setup-debian"), "--list"], capture_output=True, text=True,
-                          env=dict(os.environ, RT_DEBIAN_RELEASE="11"))
+    done = subprocess.run(
+        [str(repo_root / "scripts/setup-debian"), "--list"],
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, RT_DEBIAN_RELEASE="11"),
+    )
     assert done.returncode != 0 and "debian11" in done.stderr and not done.stdout
 
 
@@ -124,8 +147,11 @@ def cmake_lookups(repo_root: Path) -> dict[str, str]:
     """Name -> file, of everything the CMake files look for (macro bodies,
     whose names are variables, are skipped)."""
     found = {}
-    files = [repo_root / "CMakeLists.txt", *sorted((repo_root / "cmake").glob("*.cmake")),
-             *sorted(p for top in ("src", "tests") for p in (repo_root / top).rglob("CMakeLists.txt"))]
+    files = [
+        repo_root / "CMakeLists.txt",
+        *sorted((repo_root / "cmake").glob("*.cmake")),
+        *sorted(p for top in ("src", "tests") for p in (repo_root / top).rglob("CMakeLists.txt")),
+    ]
     for path in files:
         for pattern in CMAKE_LOOKUPS:
             for name in pattern.findall(path.read_text()):

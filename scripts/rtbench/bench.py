@@ -56,20 +56,36 @@ def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespac
     p = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or files (default: the profile's scenes)")
     p.add_argument("-p", "--profile", help="profile name (profiles/NAME.toml) or file; default paper")
-    p.add_argument("--resume", type=Path, metavar="RUN_DIR",
-                   help="run what an interrupted run left (its own plan; the binary and scenes must be unchanged), "
-                        "then report")
-    p.add_argument("--binary", type=Path,
-                   help="use this raytracer binary, build nothing (default: $RT_BINARY, or $RT_BINARY_PAPER_O0 "
-                        "for a paper-o0 profile, when set, as under Nix)")
+    p.add_argument(
+        "--resume",
+        type=Path,
+        metavar="RUN_DIR",
+        help="run what an interrupted run left (its own plan; the binary and scenes must be unchanged), then report",
+    )
+    p.add_argument(
+        "--binary",
+        type=Path,
+        help="use this raytracer binary, build nothing (default: $RT_BINARY, or $RT_BINARY_PAPER_O0 "
+        "for a paper-o0 profile, when set, as under Nix)",
+    )
     p.add_argument("--preset", help="CMake preset to build (default: the profile's, usually release)")
-    p.add_argument("--renderer", action="append", dest="renderers", metavar="NAME", choices=names.RENDERERS,
-                   help="only this renderer (repeatable)")
+    p.add_argument(
+        "--renderer",
+        action="append",
+        dest="renderers",
+        metavar="NAME",
+        choices=names.RENDERERS,
+        help="only this renderer (repeatable)",
+    )
     for key in ("width", "height", "warmup", "frames", "repetitions"):
         p.add_argument(f"--{key}", type=int, metavar="N", help=f"override the profile's {key}")
-    p.add_argument("--runs-dir", type=Path, default=default_runs_dir(),
-                   help="where run directories go (default: runs/ in the repository, or in the current directory "
-                        "when the repository is read-only, as in the Nix store)")
+    p.add_argument(
+        "--runs-dir",
+        type=Path,
+        default=default_runs_dir(),
+        help="where run directories go (default: runs/ in the repository, or in the current directory "
+        "when the repository is read-only, as in the Nix store)",
+    )
     p.add_argument("--report-dir", type=Path, help="report output (default: RUN_DIR/report)")
     p.add_argument("--no-report", action="store_true", help="do not make the report (scripts/report.py) at the end")
     p.add_argument("--dry-run", action="store_true", help="print the schedule and exit")
@@ -82,8 +98,13 @@ def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespac
     if args.warmup is not None and args.warmup < 0:
         p.error("--warmup must not be negative")
     if args.resume:
-        planning = {"SCENE": args.scenes, "--renderer": args.renderers, "--preset": args.preset,
-                    "--dry-run": args.dry_run, **{f"--{k}": getattr(args, k) for k in PLAN_OVERRIDES}}
+        planning = {
+            "SCENE": args.scenes,
+            "--renderer": args.renderers,
+            "--preset": args.preset,
+            "--dry-run": args.dry_run,
+            **{f"--{k}": getattr(args, k) for k in PLAN_OVERRIDES},
+        }
         given = [name for name, value in planning.items() if value]
         if given:
             p.error(f"--resume continues the run's own plan; it cannot be changed with {', '.join(given)}")
@@ -93,8 +114,9 @@ def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespac
 PLAN_OVERRIDES = ("width", "height", "warmup", "frames", "repetitions")
 
 
-def plan(args: argparse.Namespace) -> tuple[profiles.Profile, list[configurations.Config],
-                                            list[tuple[int, configurations.Config]]]:
+def plan(
+    args: argparse.Namespace,
+) -> tuple[profiles.Profile, list[configurations.Config], list[tuple[int, configurations.Config]]]:
     """The profile, its configurations and the run order, with the command
     line's scenes, renderer filter and overrides applied."""
     profile = profiles.load_profile(args.profile or DEFAULT_PROFILE)
@@ -124,11 +146,24 @@ class RichObserver(runner.Observer):
     """A live progress bar (run i/n, renderer, ETA) with finished runs above it."""
 
     def __init__(self, total: int):
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
 
-        self.progress = Progress(TextColumn("run"), MofNCompleteColumn(), BarColumn(),
-                                 TextColumn("{task.description}"), TimeElapsedColumn(), TextColumn("ETA"),
-                                 TimeRemainingColumn())
+        self.progress = Progress(
+            TextColumn("run"),
+            MofNCompleteColumn(),
+            BarColumn(),
+            TextColumn("{task.description}"),
+            TimeElapsedColumn(),
+            TextColumn("ETA"),
+            TimeRemainingColumn(),
+        )
         self.task = self.progress.add_task("", total=total)
         self.progress.start()
 
@@ -153,7 +188,7 @@ def _line(record: manifests.RunRecord) -> str:
 
 
 def _clock(seconds: float) -> str:
-    s = int(round(seconds))
+    s = round(seconds)
     return f"{s // 3600}:{s % 3600 // 60:02d}:{s % 60:02d}"
 
 
@@ -200,8 +235,11 @@ def run_report(run_dir: Path, report_dir: Path) -> int:
     try:
         status = cli.run("report", [str(run_dir), "-o", str(report_dir)])
     except KeyboardInterrupt:
-        print(f"bench: the report was interrupted; the runs are kept in {run_dir}.\n"
-              f"bench: report them with: scripts/report.py {run_dir}", file=sys.stderr)
+        print(
+            f"bench: the report was interrupted; the runs are kept in {run_dir}.\n"
+            f"bench: report them with: scripts/report.py {run_dir}",
+            file=sys.stderr,
+        )
         return 130
     except SystemExit as e:  # argparse's way out; sys.exit() and sys.exit(None) mean success
         status = 0 if e.code is None else e.code if isinstance(e.code, int) else 1
@@ -209,8 +247,11 @@ def run_report(run_dir: Path, report_dir: Path) -> int:
         traceback.print_exc()
         status = 1
     if status != 0:
-        print(f"bench: the report failed (exit status {status}); the runs are kept in {run_dir}.\n"
-              f"bench: report them with: scripts/report.py {run_dir}", file=sys.stderr)
+        print(
+            f"bench: the report failed (exit status {status}); the runs are kept in {run_dir}.\n"
+            f"bench: report them with: scripts/report.py {run_dir}",
+            file=sys.stderr,
+        )
     return status
 
 
@@ -227,7 +268,9 @@ def main(argv: list[str] | None = None, prog: str = "bench") -> int:
         return 2
     if args.dry_run:
         for i, (rep, c) in enumerate(order, 1):
-            print(f"{i:4} r{rep} {c.id}: {' '.join(c.argv(Path('raytracer'), Path('X.csv'), Path('X.meta.json'))[1:-5])}")
+            print(
+                f"{i:4} r{rep} {c.id}: {' '.join(c.argv(Path('raytracer'), Path('X.csv'), Path('X.meta.json'))[1:-5])}"
+            )
         return 0
     try:
         binary = resolve_binary(args, profile)
@@ -259,12 +302,22 @@ def run_profile(args, profile, configs, order, binary: Path) -> int:
     run_dir = manifests.make_run_dir(args.runs_dir, profile.name)
     with manifests.run_dir_lock(run_dir):
         configs, order = _place_scenes(configs, order, run_dir)
-        manifest = manifests.Manifest.start(profile, configs, manifests.plan_runs(order, binary, run_dir), binary,
-                                            args.command_line, manifests.host_info(), machine_warnings())
+        manifest = manifests.Manifest.start(
+            profile,
+            configs,
+            manifests.plan_runs(order, binary, run_dir),
+            binary,
+            args.command_line,
+            manifests.host_info(),
+            machine_warnings(),
+        )
         for w in manifest.warnings:
             print(f"bench: warning: {w}", file=sys.stderr)
-        print(f"bench: profile {profile.name}: {len(configs)} configurations x {len(order) // len(configs)} "
-              f"repetitions = {len(order)} runs -> {run_dir}", flush=True)
+        print(
+            f"bench: profile {profile.name}: {len(configs)} configurations x {len(order) // len(configs)} "
+            f"repetitions = {len(order)} runs -> {run_dir}",
+            flush=True,
+        )
         manifests.write_manifest(run_dir, manifest)
         completed = run_manifest(args, manifest, run_dir, binary_to_probe=binary)
     return finish(args, manifest, run_dir, completed)
@@ -283,12 +336,18 @@ def resume_run(args: argparse.Namespace) -> int:
             _check_profile(args, manifest)
             missing = manifest.missing()
             kept = manifest.counts().get(RunStatus.OK, 0)
-            print(f"bench: resuming {run_dir} (profile {manifest.profile.get('name')}): "
-                  f"{sum(map(len, missing.values()))} runs of {len(missing)} configurations to go, "
-                  f"{kept} finished runs kept", flush=True)
+            print(
+                f"bench: resuming {run_dir} (profile {manifest.profile.get('name')}): "
+                f"{sum(map(len, missing.values()))} runs of {len(missing)} configurations to go, "
+                f"{kept} finished runs kept",
+                flush=True,
+            )
             if manifest.host.get("logical_cores") != os.cpu_count():
-                print(f"bench: warning: this machine has {os.cpu_count()} logical cores, the run started on one "
-                      f"with {manifest.host.get('logical_cores')}", file=sys.stderr)
+                print(
+                    f"bench: warning: this machine has {os.cpu_count()} logical cores, the run started on one "
+                    f"with {manifest.host.get('logical_cores')}",
+                    file=sys.stderr,
+                )
             manifest.resumed.append({"at": manifests.utc_now(), "command_line": args.command_line})
             manifests.write_manifest(run_dir, manifest)
             completed = run_manifest(args, manifest, run_dir)
@@ -311,8 +370,10 @@ def _check_profile(args: argparse.Namespace, manifest: manifests.Manifest) -> No
         raise manifests.ResumeError(str(e)) from None
     recorded = manifest.profile.get("definition")
     if given.name != manifest.profile.get("name") or json.loads(json.dumps(given.raw, default=str)) != recorded:
-        raise manifests.ResumeError(f"{args.resume} ran profile {manifest.profile.get('name')!r} "
-                                    f"({manifest.profile.get('path')}); {given.path} is not that profile as it was")
+        raise manifests.ResumeError(
+            f"{args.resume} ran profile {manifest.profile.get('name')!r} "
+            f"({manifest.profile.get('path')}); {given.path} is not that profile as it was"
+        )
 
 
 def run_manifest(args, manifest: manifests.Manifest, run_dir: Path, binary_to_probe: Path | None = None) -> bool:
@@ -360,15 +421,17 @@ def finish(args, manifest: manifests.Manifest, run_dir: Path, completed: bool) -
     print(f"bench: {', '.join(f'{n} {k}' for k, n in sorted(counts.items()))} -> {run_dir}")
     if not completed:
         missing = manifest.missing()
-        print(f"bench: interrupted by {manifest.interrupted_by}: the running configuration was stopped, "
-              f"{counts.get(RunStatus.OK, 0)} finished runs kept, {sum(map(len, missing.values()))} runs of "
-              f"{len(missing)} configurations missing.\n"
-              f"bench: finish them with: scripts/bench --resume {run_dir}\n"
-              f"bench: report what finished with: scripts/report.py {run_dir}", file=sys.stderr)
+        print(
+            f"bench: interrupted by {manifest.interrupted_by}: the running configuration was stopped, "
+            f"{counts.get(RunStatus.OK, 0)} finished runs kept, {sum(map(len, missing.values()))} runs of "
+            f"{len(missing)} configurations missing.\n"
+            f"bench: finish them with: scripts/bench --resume {run_dir}\n"
+            f"bench: report what finished with: scripts/report.py {run_dir}",
+            file=sys.stderr,
+        )
         return 128 + signal.Signals[manifest.interrupted_by].value
     if counts.get(RunStatus.OK) and not args.no_report:
         status = run_report(run_dir, args.report_dir or run_dir / "report")
         if status != 0:
             return 130 if status == 130 else 1
     return 1 if counts.get(RunStatus.FAILED) or not counts.get(RunStatus.OK) else 0
-

@@ -77,8 +77,13 @@ def budget_stats(series: list, budgets_ms) -> dict[str, float]:
     """Every budget statistic of one configuration, from its runs' measured
     frame times, each series in frame order."""
     pooled = np.concatenate([stats.finite(s) for s in series]) if series else np.array([])
-    row = {"n": int(pooled.size), "median": stats.median(pooled), "p99": stats.percentile(pooled, 99),
-           "max": float(pooled.max()) if pooled.size else math.nan, "jitter": jitter(series)}
+    row = {
+        "n": int(pooled.size),
+        "median": stats.median(pooled),
+        "p99": stats.percentile(pooled, 99),
+        "max": float(pooled.max()) if pooled.size else math.nan,
+        "jitter": jitter(series),
+    }
     for budget in budgets_ms:
         row[share_column(budget)] = share_over(pooled, budget)
         row[run_column(budget)] = max((longest_run_over(s, budget) for s in series), default=0)
@@ -105,30 +110,45 @@ def summarize_budgets(frames: pd.DataFrame, budgets_ms=DEFAULT_BUDGETS_MS) -> pd
 
 
 def stat_columns(budgets_ms) -> list[str]:
-    return ["n", "median", "p99", "max", "jitter",
-            *(c for b in budgets_ms for c in (share_column(b), run_column(b)))]
+    return ["n", "median", "p99", "max", "jitter", *(c for b in budgets_ms for c in (share_column(b), run_column(b)))]
 
 
 def budget_table(budgets: pd.DataFrame, budgets_ms) -> tables.Table:
     """The report's frame-budget table: every configuration."""
     rows = []
     for r in budgets.to_dict("records"):
-        over = [cell for b in budgets_ms for cell in (tables.fmt_percent(r[share_column(b)]),
-                                                       tables.fmt_int(r[run_column(b)]))]
-        rows.append([*tables.config_cells(r), tables.fmt_int(r["n"]), tables.fmt_ms(r["median"]),
-                     tables.fmt_ms(r["p99"]), tables.fmt_ms(r["max"]), tables.fmt_ms(r["jitter"]), *over])
+        over = [
+            cell
+            for b in budgets_ms
+            for cell in (tables.fmt_percent(r[share_column(b)]), tables.fmt_int(r[run_column(b)]))
+        ]
+        rows.append(
+            [
+                *tables.config_cells(r),
+                tables.fmt_int(r["n"]),
+                tables.fmt_ms(r["median"]),
+                tables.fmt_ms(r["p99"]),
+                tables.fmt_ms(r["max"]),
+                tables.fmt_ms(r["jitter"]),
+                *over,
+            ]
+        )
     headers, align = tables.config_headers()
     budget_headers = [h for b in budgets_ms for h in (f"> {b:g} ms", "longest run")]
     return tables.Table(
-        "frame-budget", "Frame budget: the whole frame (update + render + present) [ms]",
+        "frame-budget",
+        "Frame budget: the whole frame (update + render + present) [ms]",
         [*headers, "n", "median", "p99", "max", "jitter", *budget_headers],
-        rows, align + "rrrrr" + "rr" * len(budgets_ms),
+        rows,
+        align + "rrrrr" + "rr" * len(budgets_ms),
         [budget_note(budgets_ms)],
     )
 
 
 def budget_note(budgets_ms) -> str:
     texts = ", ".join(f"{b:g} ms ({1000 / b:.0f} fps)" for b in budgets_ms)
-    return (f"Budgets {texts}. '> B ms': share of measured frames over the budget; 'longest run': the most "
-            "consecutive frames of one run over it; jitter: median |difference| between consecutive frames of "
-            "one run. Frame time = update_ms + render_ms + present_ms of the frame.")
+    return (
+        f"Budgets {texts}. '> B ms': share of measured frames over the budget; 'longest run': the most "
+        "consecutive frames of one run over it; jitter: median |difference| between consecutive frames of "
+        "one run. Frame time = update_ms + render_ms + present_ms of the frame."
+    )

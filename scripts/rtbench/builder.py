@@ -31,8 +31,13 @@ def build(preset: str, repo_root: Path, jobs: int, out=None) -> Path:
     steps = []
     if not (build_dir / "build.ninja").is_file():
         steps.append((f"configuring preset {preset}", ["cmake", "--preset", preset], False))
-    steps.append((f"building preset {preset}",
-                  ["cmake", "--build", "--preset", preset, f"-j{jobs}", "--target", "raytracer"], True))
+    steps.append(
+        (
+            f"building preset {preset}",
+            ["cmake", "--build", "--preset", preset, f"-j{jobs}", "--target", "raytracer"],
+            True,
+        )
+    )
     for label, argv, is_build in steps:
         _build_step(label, argv, is_build, repo_root, out)
     binary = build_dir / "raytracer"
@@ -47,8 +52,9 @@ def _build_step(label: str, argv: list[str], is_build: bool, cwd: Path, out) -> 
     if not is_build:
         print(f"bench: {label}", file=out, flush=True)
     lines = []
-    proc = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            errors="replace")
+    proc = subprocess.Popen(
+        argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace"
+    )
     try:
         for line in proc.stdout:
             lines.append(line)

@@ -35,15 +35,27 @@ class Command:
 
 
 COMMANDS = {
-    "bench": Command("rtbench.bench", "bench", "run a benchmark profile, then report on it (scripts/bench)",
-                     ("numpy", "pandas", "matplotlib", "rich")),
-    "report": Command("rtbench.report_writer", "report.py", "the report of finished runs (scripts/report.py)",
-                      ("numpy", "pandas", "matplotlib")),
-    "compare": Command("rtbench.compare_cli", "compare.py", "compare two sets of runs: faster, slower or ~ per "
-                                                        "configuration (scripts/compare.py)",
-                       ("numpy", "pandas", "scipy", "matplotlib", "rich")),
-    "gen-scene": Command("rtbench.scenes", "gen_scene.py", "write the committed scenes, or a random one "
-                                                           "(scripts/gen_scene.py)"),
+    "bench": Command(
+        "rtbench.bench",
+        "bench",
+        "run a benchmark profile, then report on it (scripts/bench)",
+        ("numpy", "pandas", "matplotlib", "rich"),
+    ),
+    "report": Command(
+        "rtbench.report_writer",
+        "report.py",
+        "the report of finished runs (scripts/report.py)",
+        ("numpy", "pandas", "matplotlib"),
+    ),
+    "compare": Command(
+        "rtbench.compare_cli",
+        "compare.py",
+        "compare two sets of runs: faster, slower or ~ per configuration (scripts/compare.py)",
+        ("numpy", "pandas", "scipy", "matplotlib", "rich"),
+    ),
+    "gen-scene": Command(
+        "rtbench.scenes", "gen_scene.py", "write the committed scenes, or a random one (scripts/gen_scene.py)"
+    ),
 }
 
 
@@ -58,10 +70,12 @@ def missing_module(prog: str, error: ModuleNotFoundError) -> str:
     `python3 -m rtbench` runs under whichever Python started it; the
     commands of scripts/ switch to the one that has the packages
     (rtbench.interpreter, scripts/lib/python.sh)."""
-    return (f"{prog}: this Python ({sys.executable}) has no module {error.name!r}. Run the command through "
-            "scripts/ (scripts/bench, scripts/report.py, scripts/compare.py), which runs under $RT_PYTHON, else "
-            "Debian's /usr/bin/python3 (scripts/setup-debian installs pandas, matplotlib, scipy and rich for it), "
-            "or start it with such a Python: PYTHONPATH=scripts /usr/bin/python3 -m rtbench ...")
+    return (
+        f"{prog}: this Python ({sys.executable}) has no module {error.name!r}. Run the command through "
+        "scripts/ (scripts/bench, scripts/report.py, scripts/compare.py), which runs under $RT_PYTHON, else "
+        "Debian's /usr/bin/python3 (scripts/setup-debian installs pandas, matplotlib, scipy and rich for it), "
+        "or start it with such a Python: PYTHONPATH=scripts /usr/bin/python3 -m rtbench ..."
+    )
 
 
 def script(name: str, path: str, argv: list[str]) -> int:

@@ -86,8 +86,14 @@ class Comparison:
 
 # --- statistics: pure functions ------------------------------------------------
 
-def ratio_ci(base, new, confidence: float = stats.CONFIDENCE, resamples: int = stats.BOOTSTRAP_RESAMPLES,
-             seed: int = stats.BOOTSTRAP_SEED) -> tuple[float, float]:
+
+def ratio_ci(
+    base,
+    new,
+    confidence: float = stats.CONFIDENCE,
+    resamples: int = stats.BOOTSTRAP_RESAMPLES,
+    seed: int = stats.BOOTSTRAP_SEED,
+) -> tuple[float, float]:
     """Percentile-bootstrap CI of median(new) / median(base), each side
     resampled on its own; seeded, so the same data give the same interval."""
     b, n = stats.finite(base), stats.finite(new)
@@ -136,12 +142,21 @@ def compare_values(base, new, options: Options) -> dict:
     ratio = mn / mb if mb > 0 and math.isfinite(mn) else math.nan
     ci = ratio_ci(base, new)
     p = mann_whitney_p(base, new)
-    return {"base_n": int(stats.finite(base).size), "new_n": int(stats.finite(new).size), "base_median": mb,
-            "new_median": mn, "ratio": ratio, "ci_low": ci[0], "ci_high": ci[1], "p_value": p,
-            "verdict": verdict(ratio, ci, p, options.alpha, options.noise)}
+    return {
+        "base_n": int(stats.finite(base).size),
+        "new_n": int(stats.finite(new).size),
+        "base_median": mb,
+        "new_median": mn,
+        "ratio": ratio,
+        "ci_low": ci[0],
+        "ci_high": ci[1],
+        "p_value": p,
+        "verdict": verdict(ratio, ci, p, options.alpha, options.noise),
+    }
 
 
 # --- matching --------------------------------------------------------------------
+
 
 def match_keys(options: Options) -> list[str]:
     """The columns two configurations must agree on to be compared."""
@@ -171,7 +186,8 @@ def configurations(side: Side, keys: list[str]) -> dict[tuple, pd.DataFrame]:
             values = ", ".join(sorted(map(str, full[column].unique())))
             raise CompareError(
                 f"{', '.join(map(str, side.paths))}: configuration {stats.config_label(full.iloc[0])} ran with more "
-                f"than one {column} ({values}); compare them separately, or match on it with --key-with {column}")
+                f"than one {column} ({values}); compare them separately, or match on it with --key-with {column}"
+            )
         out[key if isinstance(key, tuple) else (key,)] = group
     return out
 
@@ -205,21 +221,33 @@ def compare_sides(base: Side, new: Side, options: Options) -> Comparison:
     rows = []
     for key in both:
         b, n = ours[key], theirs[key]
-        row = {**dict(zip(stats.CONFIG_KEYS, b[stats.CONFIG_KEYS].iloc[0])),
-               "label": label(b.iloc[0], n.iloc[0], len(sizes) > 1),
-               **compare_values(b[names.RENDER_MS], n[names.RENDER_MS], options)}
+        row = {
+            **dict(zip(stats.CONFIG_KEYS, b[stats.CONFIG_KEYS].iloc[0])),
+            "label": label(b.iloc[0], n.iloc[0], len(sizes) > 1),
+            **compare_values(b[names.RENDER_MS], n[names.RENDER_MS], options),
+        }
         for side, group in (("base", b), ("new", n)):
             row.update(frame_budget(side, group, options.budgets_ms))
         rows.append(row)
     table = stats.sort_configs(pd.DataFrame(rows)) if rows else pd.DataFrame(columns=["label", "verdict", "ratio"])
-    only = [[label(g.iloc[0], g.iloc[0], len(sizes) > 1) for k, g in side.items() if k not in other]
-            for side, other in ((ours, theirs), (theirs, ours))]
-    return Comparison(base, new, options, table, sorted(only[0]), sorted(only[1]),
-                      geometric_mean(table["ratio"]) if len(table) else math.nan,
-                      environment_differences(base.environment, new.environment))
+    only = [
+        [label(g.iloc[0], g.iloc[0], len(sizes) > 1) for k, g in side.items() if k not in other]
+        for side, other in ((ours, theirs), (theirs, ours))
+    ]
+    return Comparison(
+        base,
+        new,
+        options,
+        table,
+        sorted(only[0]),
+        sorted(only[1]),
+        geometric_mean(table["ratio"]) if len(table) else math.nan,
+        environment_differences(base.environment, new.environment),
+    )
 
 
 # --- environment -------------------------------------------------------------------
+
 
 def _device_driver(device: dict) -> str | None:
     driver = (names.META_DEVICE_DRIVER_NAME, names.META_DEVICE_DRIVER_VERSION)
@@ -281,7 +309,9 @@ def environment(runs: Iterable[tuple[dict, list[dict]]]) -> dict[str, list[str]]
     return {fact: sorted(values) for fact, values in facts.items()}
 
 
-def environment_differences(base: dict[str, list[str]], new: dict[str, list[str]]) -> list[tuple[str, list[str], list[str]]]:
+def environment_differences(
+    base: dict[str, list[str]], new: dict[str, list[str]]
+) -> list[tuple[str, list[str], list[str]]]:
     """(fact, base values, new values) of every fact whose values differ, in
     METADATA_FACTS order, then the rest by name."""
     order = [fact for fact, _ in METADATA_FACTS]

@@ -69,23 +69,54 @@ def positive_ms(text: str) -> float:
 
 def parse_args(argv: list[str] | None, prog: str | None) -> tuple[argparse.Namespace, Options]:
     p = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("runs", nargs="*", type=Path, metavar="BASE NEW",
-                   help="two run directories or run archives (.tar.xz): the base and the new one")
+    p.add_argument(
+        "runs",
+        nargs="*",
+        type=Path,
+        metavar="BASE NEW",
+        help="two run directories or run archives (.tar.xz): the base and the new one",
+    )
     p.add_argument("--base", nargs="+", type=Path, metavar="RUN", help="base runs, pooled (instead of BASE NEW)")
     p.add_argument("--new", nargs="+", type=Path, metavar="RUN", help="new runs, pooled (with --base)")
-    p.add_argument("--alpha", type=fraction, default=DEFAULT_ALPHA,
-                   help=f"significance level of the U test (default {DEFAULT_ALPHA})")
-    p.add_argument("--noise", type=fraction, default=DEFAULT_NOISE,
-                   help=f"smallest relative change called faster or slower (default {DEFAULT_NOISE:.0%}%)")
-    p.add_argument("--fail-above", type=fraction, metavar="FRACTION",
-                   help="exit 1 if a configuration is significantly slower by more than this (e.g. 10%%)")
-    p.add_argument("--budget-ms", type=positive_ms, nargs="+", default=list(budget.DEFAULT_BUDGETS_MS),
-                   metavar="MS", help="frame budgets (default: 16.67 33.33)")
-    p.add_argument("--all-cores", action="store_true",
-                   help="match a configuration that ran on all of its machine's cores with the other side's "
-                        "all-cores one, whatever the two core counts (for comparing machines)")
-    p.add_argument("--key-with", action="append", default=[], choices=ENVIRONMENT_KEYS,
-                   help="also match on this column (left out by default: it is the machine's, not the benchmark's)")
+    p.add_argument(
+        "--alpha",
+        type=fraction,
+        default=DEFAULT_ALPHA,
+        help=f"significance level of the U test (default {DEFAULT_ALPHA})",
+    )
+    p.add_argument(
+        "--noise",
+        type=fraction,
+        default=DEFAULT_NOISE,
+        help=f"smallest relative change called faster or slower (default {DEFAULT_NOISE:.0%}%)",
+    )
+    p.add_argument(
+        "--fail-above",
+        type=fraction,
+        metavar="FRACTION",
+        help="exit 1 if a configuration is significantly slower by more than this (e.g. 10%%)",
+    )
+    p.add_argument(
+        "--budget-ms",
+        type=positive_ms,
+        nargs="+",
+        default=list(budget.DEFAULT_BUDGETS_MS),
+        metavar="MS",
+        help="frame budgets (default: 16.67 33.33)",
+    )
+    p.add_argument(
+        "--all-cores",
+        action="store_true",
+        help="match a configuration that ran on all of its machine's cores with the other side's "
+        "all-cores one, whatever the two core counts (for comparing machines)",
+    )
+    p.add_argument(
+        "--key-with",
+        action="append",
+        default=[],
+        choices=ENVIRONMENT_KEYS,
+        help="also match on this column (left out by default: it is the machine's, not the benchmark's)",
+    )
     p.add_argument("-o", "--output", type=Path, metavar="DIR", help="write compare.md, compare.json and the plot here")
     p.add_argument("-q", "--quiet", action="store_true", help="print no table, only errors and failures")
     args = p.parse_args(argv)
@@ -97,8 +128,9 @@ def parse_args(argv: list[str] | None, prog: str | None) -> tuple[argparse.Names
         args.base, args.new = [args.runs[0]], [args.runs[1]]
     if not (args.base and args.new):
         p.error("nothing to compare: give BASE NEW, or --base RUN... --new RUN...")
-    options = Options(args.alpha, args.noise, args.fail_above, tuple(args.budget_ms), args.all_cores,
-                      tuple(args.key_with))
+    options = Options(
+        args.alpha, args.noise, args.fail_above, tuple(args.budget_ms), args.all_cores, tuple(args.key_with)
+    )
     return args, options
 
 

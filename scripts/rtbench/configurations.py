@@ -47,8 +47,13 @@ class Config:
         """A file-name-safe identifier, unique within a profile (the accel in
         it where it is not brute force)."""
         accel = [] if self.accel == names.BRUTE_FORCE else [self.accel]
-        parts = [self.scene, self.renderer, self.variant.label, *accel,
-                 *(f"{axis}{value}" for axis, value in self.axes)]
+        parts = [
+            self.scene,
+            self.renderer,
+            self.variant.label,
+            *accel,
+            *(f"{axis}{value}" for axis, value in self.axes),
+        ]
         return re.sub(r"[^A-Za-z0-9_.-]+", "_", "-".join(parts))
 
     def argv(self, binary: Path, csv: Path, meta: Path) -> list[str]:
@@ -66,10 +71,19 @@ class Config:
     def describe(self) -> dict:
         """The configuration as plain data for the manifest."""
         return {
-            "id": self.id, "scene": self.scene, "scene_path": self.scene_path, "renderer": self.renderer,
-            "stage": self.variant.label, "algorithm": self.variant.algorithm,
-            "early_exits": list(self.variant.early_exits), "accel": self.accel, "width": self.width,
-            "height": self.height, "warmup": self.warmup, "frames": self.frames, "axes": dict(self.axes),
+            "id": self.id,
+            "scene": self.scene,
+            "scene_path": self.scene_path,
+            "renderer": self.renderer,
+            "stage": self.variant.label,
+            "algorithm": self.variant.algorithm,
+            "early_exits": list(self.variant.early_exits),
+            "accel": self.accel,
+            "width": self.width,
+            "height": self.height,
+            "warmup": self.warmup,
+            "frames": self.frames,
+            "axes": dict(self.axes),
             "args": list(self.args),
         }
 
@@ -92,6 +106,7 @@ def axis_items(axis: str, values: list, cpu_count: int) -> list[tuple[str, str]]
 
 def parse_threads(value, cpu_count: int) -> list[int]:
     """1 -> [1]; "all" -> [cpu_count]; "1..all" -> [1 .. cpu_count]."""
+
     def one(text) -> int:
         n = cpu_count if text == "all" else int(text)
         if n < 1:
@@ -107,15 +122,21 @@ def parse_threads(value, cpu_count: int) -> list[int]:
         raise ProfileError(f"threads value {value!r}: expected a positive integer, 'all' or 'A..B'") from None
 
 
-def expand(profile: Profile, scene_paths: list[Path], cpu_count: int, renderers: list[str] | None = None,
-           forced: dict | None = None) -> list[Config]:
+def expand(
+    profile: Profile,
+    scene_paths: list[Path],
+    cpu_count: int,
+    renderers: list[str] | None = None,
+    forced: dict | None = None,
+) -> list[Config]:
     """Every configuration of the matrix (scene x stage x accel x renderer x
     its axes), scene-major and renderer-innermost, so that running them in
     this order already alternates renderers. `forced` (from the command line:
     width, height, warmup, frames) wins over the profile and its overrides."""
     configs = []
-    for scene_path, variant, accel, renderer in itertools.product(scene_paths, profile.variants, profile.accels,
-                                                                  profile.renderers):
+    for scene_path, variant, accel, renderer in itertools.product(
+        scene_paths, profile.variants, profile.accels, profile.renderers
+    ):
         if renderers and renderer not in renderers:
             continue
         spec = profile.renderers[renderer]
@@ -123,16 +144,26 @@ def expand(profile: Profile, scene_paths: list[Path], cpu_count: int, renderers:
         ids = set()  # of this scene, stage, accel and renderer
         for combo in itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes)):
             config = Config(
-                scene=scene_path.stem, scene_path=str(scene_path), renderer=renderer, variant=variant,
-                width=profile.width, height=profile.height, warmup=profile.warmup, frames=profile.frames,
-                axes=tuple((a, value) for a, (_, value) in zip(axes, combo)), args=(*profile.args, *spec["args"]),
+                scene=scene_path.stem,
+                scene_path=str(scene_path),
+                renderer=renderer,
+                variant=variant,
+                width=profile.width,
+                height=profile.height,
+                warmup=profile.warmup,
+                frames=profile.frames,
+                axes=tuple((a, value) for a, (_, value) in zip(axes, combo)),
+                args=(*profile.args, *spec["args"]),
                 accel=names.OWN_ACCEL.get(renderer, accel),
             )
             config = apply_overrides(sized(config), profile.overrides, dict(zip(axes, (w for w, _ in combo))))
             # Two written values of one command line ("all" and 2 on 2 cores) run once, the first kept.
             # A renderer with its own structure runs once, not once per accel.
-            if config is None or config.id in ids or (renderer in names.OWN_ACCEL
-                                                      and any(c.id == config.id for c in configs)):
+            if (
+                config is None
+                or config.id in ids
+                or (renderer in names.OWN_ACCEL and any(c.id == config.id for c in configs))
+            ):
                 continue
             ids.add(config.id)
             configs.append(replace(config, **(forced or {})))

@@ -72,8 +72,9 @@ def ensure(prog: str, needs, script: str, argv: list[str]) -> None:
         sys.exit(missing_message(prog, absent, target, failure=e.strerror or str(e)))
 
 
-def missing_message(prog: str, absent: list[str], target: str | None, first: str | None = None,
-                    failure: str | None = None) -> str:
+def missing_message(
+    prog: str, absent: list[str], target: str | None, first: str | None = None, failure: str | None = None
+) -> str:
     """One paragraph: which modules the Pythons tried lack, and how to get a
     Python that has them. `target` is preferred()'s answer (None: no other
     Python known), `first` the Python that started this one under `target`,
@@ -83,12 +84,18 @@ def missing_message(prog: str, absent: list[str], target: str | None, first: str
     if first is not None:
         text = f"neither {first} nor {where} ({target}) has {modules}, which {prog} needs"
     elif failure is not None:
-        text = (f"this Python ({sys.executable}) has no {modules}, which {prog} needs, and {where} ({target}), "
-                f"which should have them, cannot be run: {failure}")
+        text = (
+            f"this Python ({sys.executable}) has no {modules}, which {prog} needs, and {where} ({target}), "
+            f"which should have them, cannot be run: {failure}"
+        )
     else:
-        text = (f"this Python ({sys.executable}) has no {modules}, which {prog} needs, and no other Python is "
-                f"known to have them ($RT_PYTHON is not set, there is no {DEBIAN_PYTHON})")
-    return (f"{prog}: {text}. To get them: on Debian, scripts/setup-debian installs them for {DEBIAN_PYTHON}, "
-            f"which scripts/{prog} then uses, whichever python3 starts it; with Nix, `nix run .#report -- "
-            "RUN_DIR...` for the report, or `nix develop`, whose $RT_PYTHON has them; elsewhere, install them for "
-            "a Python and name it in $RT_PYTHON.")
+        text = (
+            f"this Python ({sys.executable}) has no {modules}, which {prog} needs, and no other Python is "
+            f"known to have them ($RT_PYTHON is not set, there is no {DEBIAN_PYTHON})"
+        )
+    return (
+        f"{prog}: {text}. To get them: on Debian, scripts/setup-debian installs them for {DEBIAN_PYTHON}, "
+        f"which scripts/{prog} then uses, whichever python3 starts it; with Nix, `nix run .#report -- "
+        "RUN_DIR...` for the report, or `nix develop`, whose $RT_PYTHON has them; elsewhere, install them for "
+        "a Python and name it in $RT_PYTHON."
+    )

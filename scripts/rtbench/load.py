@@ -43,6 +43,7 @@ def meta_path_for(csv_path: Path) -> Path:
 
 # --- one file ------------------------------------------------------------------
 
+
 def read_frame_csv(path: Path) -> dict[str, list]:
     """Reads a frame CSV into columns, converting each by its schema type."""
     try:
@@ -166,15 +167,18 @@ def _sphere_count(meta_path: Path, meta: dict) -> int:
     """The scene's sphere count from the metadata (0 where a sidecar lacks it)."""
     count = (meta.get(names.META_SCENE) or {}).get(names.META_SCENE_SPHERES, 0)
     if not isinstance(count, int) or isinstance(count, bool) or count < 0:
-        raise RunDataError(f"{meta_path}: {names.META_SCENE}.{names.META_SCENE_SPHERES} must be a sphere count, "
-                           f"not {count!r}")
+        raise RunDataError(
+            f"{meta_path}: {names.META_SCENE}.{names.META_SCENE_SPHERES} must be a sphere count, not {count!r}"
+        )
     return count
 
 
 def _check_against_meta(csv_path: Path, meta_path: Path, columns: dict, meta: dict) -> None:
     run_id = columns[names.RUN_ID][0]
     if meta.get(names.META_RUN_ID) != run_id:
-        raise RunDataError(f"{csv_path}: run_id {run_id} differs from its metadata {meta_path} ({meta.get(names.META_RUN_ID)})")
+        raise RunDataError(
+            f"{csv_path}: run_id {run_id} differs from its metadata {meta_path} ({meta.get(names.META_RUN_ID)})"
+        )
     config = meta[names.META_CONFIG]
     warmup, measured = names.META_CONFIG_WARMUP_FRAMES, names.META_CONFIG_MEASURED_FRAMES
     expected = config.get(warmup, 0) + config.get(measured, 0)
@@ -186,6 +190,7 @@ def _check_against_meta(csv_path: Path, meta_path: Path, columns: dict, meta: di
 
 
 # --- run directories -------------------------------------------------------------
+
 
 def read_manifest(run_dir: Path) -> dict | None:
     """The runner's manifest, None when the directory has none."""
@@ -223,7 +228,9 @@ def unfinished_note(run_dir: Path, manifest: dict | None) -> str | None:
         if r.get("status") == RunStatus.OK:
             finished[r["config"]] = finished.get(r["config"], 0) + 1
     empty = [c for c in missing if not finished.get(c)]
-    partial = [f"{c} ({finished[c]} of {finished[c] + len(missing[c])} repetitions)" for c in missing if finished.get(c)]
+    partial = [
+        f"{c} ({finished[c]} of {finished[c] + len(missing[c])} repetitions)" for c in missing if finished.get(c)
+    ]
     status = manifest.get("status", "?")
     if manifest.get("interrupted_by"):
         status += f" by {manifest['interrupted_by']}"

@@ -20,7 +20,7 @@ import platform
 import signal
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 
 from rtbench import atomic, configurations, load, noise, profiles, scenes
@@ -78,24 +78,52 @@ class Manifest:
     resumed: list[dict] = field(default_factory=list)
 
     @classmethod
-    def start(cls, profile: Profile, configs: list[Config], runs: list[RunRecord], binary: Path,
-              command_line: list[str], host: dict, warnings: list[str]) -> "Manifest":
+    def start(
+        cls,
+        profile: Profile,
+        configs: list[Config],
+        runs: list[RunRecord],
+        binary: Path,
+        command_line: list[str],
+        host: dict,
+        warnings: list[str],
+    ) -> Manifest:
         """The manifest of a new run (status running), with the identity of
         what it runs, which a resume checks."""
-        section = {"name": profile.name, "path": str(profile.path), "description": profile.description,
-                   "preset": profile.preset, "repetitions": len({r.repetition for r in runs}),
-                   "interleave": profile.interleave, "timeout_s": profile.timeout_s, "definition": profile.raw}
+        section = {
+            "name": profile.name,
+            "path": str(profile.path),
+            "description": profile.description,
+            "preset": profile.preset,
+            "repetitions": len({r.repetition for r in runs}),
+            "interleave": profile.interleave,
+            "timeout_s": profile.timeout_s,
+            "definition": profile.raw,
+        }
         described = [c.describe() for c in configs]
         identity = run_identity(binary, [c["scene_path"] for c in described])
-        return cls(section, described, runs, str(binary), command_line, host, warnings, started_at=utc_now(),
-                   identity=identity)
+        return cls(
+            section, described, runs, str(binary), command_line, host, warnings, started_at=utc_now(), identity=identity
+        )
 
     @classmethod
-    def from_json(cls, data: dict) -> "Manifest":
+    def from_json(cls, data: dict) -> Manifest:
         runs = [RunRecord(**r) for r in data["runs"]]
-        return cls(data["profile"], data["configs"], runs, data["binary"], data["command_line"], data["host"],
-                   data.get("warnings", []), data["status"], data.get("started_at", ""), data.get("finished_at"),
-                   data.get("identity", {}), data.get("interrupted_by"), data.get("resumed", []))
+        return cls(
+            data["profile"],
+            data["configs"],
+            runs,
+            data["binary"],
+            data["command_line"],
+            data["host"],
+            data.get("warnings", []),
+            data["status"],
+            data.get("started_at", ""),
+            data.get("finished_at"),
+            data.get("identity", {}),
+            data.get("interrupted_by"),
+            data.get("resumed", []),
+        )
 
     def to_json(self) -> dict:
         return {
@@ -129,7 +157,7 @@ class Manifest:
 
 
 def utc_now() -> str:
-    return datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    return datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 def write_manifest(run_dir: Path, manifest: Manifest) -> Path:
@@ -148,11 +176,14 @@ def run_identity(binary: Path, scene_paths: list[str]) -> dict:
     """What the numbers of a run depend on besides the command lines: the
     binary's and the scenes' contents. A resume that would mix builds or
     edited scenes into one run is refused on these."""
-    return {"binary_sha256": file_sha256(binary),
-            "scene_sha256": {p: file_sha256(Path(p)) for p in sorted(set(scene_paths))}}
+    return {
+        "binary_sha256": file_sha256(binary),
+        "scene_sha256": {p: file_sha256(Path(p)) for p in sorted(set(scene_paths))},
+    }
 
 
 # --- the run directory's lock ---------------------------------------------------
+
 
 @contextmanager
 def run_dir_lock(run_dir: Path):
@@ -166,8 +197,9 @@ def run_dir_lock(run_dir: Path):
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             holder = os.pread(fd, 64, 0).decode(errors="replace").strip() or "?"
-            raise RunDirBusy(f"{run_dir}: in use by another bench process (pid {holder}); "
-                             "wait for it to finish or stop it first") from None
+            raise RunDirBusy(
+                f"{run_dir}: in use by another bench process (pid {holder}); wait for it to finish or stop it first"
+            ) from None
         os.ftruncate(fd, 0)
         os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
         yield
@@ -177,11 +209,12 @@ def run_dir_lock(run_dir: Path):
 
 # --- the run directory's files ---------------------------------------------------
 
+
 def make_run_dir(runs_dir: Path, profile_name: str, now: datetime | None = None) -> Path:
     """runs/<UTC timestamp>-<profile>/, never reusing an existing directory:
     mkdir either creates the directory or fails, so two runners started in
     the same second get -2, -3, ... instead of sharing one."""
-    stamp = (now or datetime.now(timezone.utc)).strftime("%Y%m%dT%H%M%SZ")
+    stamp = (now or datetime.now(UTC)).strftime("%Y%m%dT%H%M%SZ")
     runs_dir.mkdir(parents=True, exist_ok=True)
     for suffix in ["", *(f"-{i}" for i in range(2, 1000))]:
         path = runs_dir / f"{stamp}-{profile_name}{suffix}"
@@ -232,8 +265,11 @@ def host_info() -> dict:
     """What the runner knows about the machine at the start (each run's
     metadata sidecar records more: CPU model, OS, build)."""
     return {
-        "logical_cores": os.cpu_count(), "platform": platform.platform(), "python": platform.python_version(),
-        "cpu_governors": sorted(set(noise.read_governors().values())), "load_average_1min": noise.read_load_average(),
+        "logical_cores": os.cpu_count(),
+        "platform": platform.platform(),
+        "python": platform.python_version(),
+        "cpu_governors": sorted(set(noise.read_governors().values())),
+        "load_average_1min": noise.read_load_average(),
     }
 
 
@@ -253,6 +289,7 @@ def discard_outputs(run_dir: Path, record: RunRecord) -> None:
 
 
 # --- resuming ----------------------------------------------------------------------
+
 
 def resume_manifest(run_dir: Path, binary: Path | None) -> Manifest:
     """The manifest of an unfinished run, ready to run what is missing: its
@@ -287,9 +324,12 @@ def _check_identity(run_dir: Path, manifest: Manifest, binary: Path) -> None:
     if not binary.is_file():
         raise ResumeError(f"{run_dir}: the run's binary {binary} is gone; rebuild it or pass --binary")
     if file_sha256(binary) != recorded:
-        raise ResumeError(f"{run_dir}: {binary} is not the build this run started with (sha256 differs); "
-                          "resuming would mix two builds in one run. Start a new run instead")
+        raise ResumeError(
+            f"{run_dir}: {binary} is not the build this run started with (sha256 differs); "
+            "resuming would mix two builds in one run. Start a new run instead"
+        )
     for path, digest in manifest.identity.get("scene_sha256", {}).items():
         if not Path(path).is_file() or file_sha256(Path(path)) != digest:
-            raise ResumeError(f"{run_dir}: scene {path} is missing or changed since the run started; "
-                              "start a new run instead")
+            raise ResumeError(
+                f"{run_dir}: scene {path} is missing or changed since the run started; start a new run instead"
+            )

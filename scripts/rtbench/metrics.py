@@ -54,8 +54,9 @@ def load_gpu_estimates(path: Path = GPU_PROCESSORS_FILE) -> list[GpuEstimate]:
     return [GpuEstimate(e["match"], e.get("p"), e.get("lanes_per_core"), e.get("note", "")) for e in entries]
 
 
-def gpu_processors(device: str, logical_cores: int, estimates: list[GpuEstimate],
-                   override: float | None = None) -> tuple[float, str]:
+def gpu_processors(
+    device: str, logical_cores: int, estimates: list[GpuEstimate], override: float | None = None
+) -> tuple[float, str]:
     """(p, where it came from) for a GPU device; NaN when nothing matches."""
     if override is not None:
         return float(override), "--gpu-p"
@@ -68,8 +69,15 @@ def gpu_processors(device: str, logical_cores: int, estimates: list[GpuEstimate]
     return math.nan, f"no estimate for device {device or '(unknown)'}; pass --gpu-p"
 
 
-def processors(renderer: str, threads: int, lanes: int, device: str, logical_cores: int, estimates: list[GpuEstimate],
-               gpu_override: float | None = None) -> tuple[float, str]:
+def processors(
+    renderer: str,
+    threads: int,
+    lanes: int,
+    device: str,
+    logical_cores: int,
+    estimates: list[GpuEstimate],
+    gpu_override: float | None = None,
+) -> tuple[float, str]:
     """p of one configuration: threads x lanes for a CPU renderer (the schema's
     backend), the device's estimate for one that renders on a GPU."""
     if not names.renders_on_cpu(renderer):
@@ -90,8 +98,13 @@ def reference_rows(summary: pd.DataFrame, reference: str) -> pd.DataFrame:
     return ref.sort_values(names.THREADS, kind="stable").drop_duplicates(keys)[[*keys, "median", "ci_low", "ci_high"]]
 
 
-def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[GpuEstimate],
-                  gpu_override: float | None = None, reference: str | None = None) -> pd.DataFrame:
+def metrics_table(
+    summary: pd.DataFrame,
+    logical_cores: int,
+    estimates: list[GpuEstimate],
+    gpu_override: float | None = None,
+    reference: str | None = None,
+) -> pd.DataFrame:
     """Speedup, p and Karp-Flatt for every non-reference configuration that has
     a reference run at the same scene, stage, accel, size and build. The
     speedup's range divides the reference's bootstrap CI by the
@@ -99,24 +112,41 @@ def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[Gpu
     reference = reference or names.reference_renderer()
     keys = SPEEDUP_KEYS
     ref = reference_rows(summary, reference).rename(
-        columns={"median": "ref_median", "ci_low": "ref_ci_low", "ci_high": "ref_ci_high"})
+        columns={"median": "ref_median", "ci_low": "ref_ci_low", "ci_high": "ref_ci_high"}
+    )
     rows = summary[summary[names.RENDERER] != reference].merge(ref, on=keys, how="inner")
     if rows.empty:
-        return pd.DataFrame(columns=[*summary.columns, "ref_median", "speedup", "speedup_low", "speedup_high",
-                                     "p", "p_source", "karp_flatt"])
+        return pd.DataFrame(
+            columns=[
+                *summary.columns,
+                "ref_median",
+                "speedup",
+                "speedup_low",
+                "speedup_high",
+                "p",
+                "p_source",
+                "karp_flatt",
+            ]
+        )
     # Grouped by the work they are compared at (each group shares its
     # reference median), groups in order of first appearance, rows within a
     # group in summary order. pandas before 2.2 returned an inner merge in
     # this order, pandas 2.2 in the left frame's order: sorted here, the
     # metrics table and its CSV are the same under both.
-    rows = (rows.assign(_group=rows.groupby(keys, sort=False, dropna=False).ngroup(), _row=range(len(rows)))
-            .sort_values(["_group", "_row"], kind="stable").drop(columns=["_group", "_row"]).reset_index(drop=True))
+    rows = (
+        rows.assign(_group=rows.groupby(keys, sort=False, dropna=False).ngroup(), _row=range(len(rows)))
+        .sort_values(["_group", "_row"], kind="stable")
+        .drop(columns=["_group", "_row"])
+        .reset_index(drop=True)
+    )
     out = rows.copy()
     out["speedup"] = [speedup(r, t) for r, t in zip(out["ref_median"], out["median"])]
     out["speedup_low"] = [speedup(r, t) for r, t in zip(out["ref_ci_low"], out["ci_high"])]
     out["speedup_high"] = [speedup(r, t) for r, t in zip(out["ref_ci_high"], out["ci_low"])]
-    p = [processors(r, int(t), int(lanes), d, logical_cores, estimates, gpu_override)
-         for r, t, lanes, d in zip(out[names.RENDERER], out[names.THREADS], out[names.LANES], out[names.DEVICE])]
+    p = [
+        processors(r, int(t), int(lanes), d, logical_cores, estimates, gpu_override)
+        for r, t, lanes, d in zip(out[names.RENDERER], out[names.THREADS], out[names.LANES], out[names.DEVICE])
+    ]
     out["p"] = [v for v, _ in p]
     out["p_source"] = [s for _, s in p]
     out["karp_flatt"] = [karp_flatt(s, pv) for s, pv in zip(out["speedup"], out["p"])]
@@ -126,8 +156,18 @@ def metrics_table(summary: pd.DataFrame, logical_cores: int, estimates: list[Gpu
 def scaling_table(summary: pd.DataFrame) -> pd.DataFrame:
     """Strong scaling: for each renderer / lanes / scene / stage / accel / size
     with more than one thread count, S(t) = T(fewest threads) / T(t) x fewest."""
-    keys = [names.SCENE, names.STAGE, names.ACCEL, names.RENDERER, names.LANES, names.SIMD_TARGET, names.WIDTH,
-            names.HEIGHT, names.DEVICE, names.BUILD_TYPE]
+    keys = [
+        names.SCENE,
+        names.STAGE,
+        names.ACCEL,
+        names.RENDERER,
+        names.LANES,
+        names.SIMD_TARGET,
+        names.WIDTH,
+        names.HEIGHT,
+        names.DEVICE,
+        names.BUILD_TYPE,
+    ]
     parts = []
     for _, group in summary.groupby(keys, sort=False, dropna=False):
         if group[names.THREADS].nunique() < 2:
@@ -199,10 +239,30 @@ def cost_fits(curves: pd.DataFrame) -> pd.DataFrame:
     for curve, group in curves.groupby(CURVE, sort=True):
         k, c, r2 = power_law_fit(group[names.SPHERES], group["median"])
         first, last = group.iloc[0], group.iloc[-1]
-        rows.append({CURVE: curve, **{key: first[key] for key in CURVE_KEYS},
-                     "counts": int(group[names.SPHERES].nunique()), "spheres_min": int(first[names.SPHERES]),
-                     "spheres_max": int(last[names.SPHERES]), "ms_min": first["median"], "ms_max": last["median"],
-                     "exponent": k, "coefficient": c, "r2": r2})
-    columns = [CURVE, *CURVE_KEYS, "counts", "spheres_min", "spheres_max", "ms_min", "ms_max", "exponent",
-               "coefficient", "r2"]
+        rows.append(
+            {
+                CURVE: curve,
+                **{key: first[key] for key in CURVE_KEYS},
+                "counts": int(group[names.SPHERES].nunique()),
+                "spheres_min": int(first[names.SPHERES]),
+                "spheres_max": int(last[names.SPHERES]),
+                "ms_min": first["median"],
+                "ms_max": last["median"],
+                "exponent": k,
+                "coefficient": c,
+                "r2": r2,
+            }
+        )
+    columns = [
+        CURVE,
+        *CURVE_KEYS,
+        "counts",
+        "spheres_min",
+        "spheres_max",
+        "ms_min",
+        "ms_max",
+        "exponent",
+        "coefficient",
+        "r2",
+    ]
     return pd.DataFrame(rows, columns=columns)

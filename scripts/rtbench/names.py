@@ -98,8 +98,24 @@ GIT_COMMIT = _meta_field(META_BUILD, "git_commit")
 GIT_DIRTY = _meta_field(META_BUILD, "git_dirty")
 
 # The columns that identify one configuration in the tidy frame.
-CONFIG_KEYS = [SCENE, SPHERES, RENDERER, STAGE, ALGORITHM, EARLY_EXIT, ACCEL, THREADS, LANES, SIMD_TARGET, GRAIN, PARTITION, WIDTH, HEIGHT,
-               DEVICE, BUILD_TYPE]
+CONFIG_KEYS = [
+    SCENE,
+    SPHERES,
+    RENDERER,
+    STAGE,
+    ALGORITHM,
+    EARLY_EXIT,
+    ACCEL,
+    THREADS,
+    LANES,
+    SIMD_TARGET,
+    GRAIN,
+    PARTITION,
+    WIDTH,
+    HEIGHT,
+    DEVICE,
+    BUILD_TYPE,
+]
 
 # The schema's `early_exit` column: "'+'-joined ... or 'none'".
 EARLY_EXIT_SEPARATOR = "+"

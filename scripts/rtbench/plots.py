@@ -12,12 +12,12 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.ticker  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
+import matplotlib.pyplot as plt
+import matplotlib.ticker
+import numpy as np
+import pandas as pd
 
-from rtbench import atomic, metrics, names, stats, tables  # noqa: E402
+from rtbench import atomic, metrics, names, stats, tables
 
 FORMATS = ("png", "svg")
 # Stable SVG ids and no timestamps: the same data give byte-identical files.
@@ -101,17 +101,28 @@ def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
     for ax, stage in zip(axes[0], stages_):
         part = df[df[names.STAGE] == stage]
         for i, label in enumerate(labels):
-            _bars(ax, part[part["_label"] == label], scenes, (i - (len(labels) - 1) / 2) * width, width,
-                  label=label, color=colors(i))
+            _bars(
+                ax,
+                part[part["_label"] == label],
+                scenes,
+                (i - (len(labels) - 1) / 2) * width,
+                width,
+                label=label,
+                color=colors(i),
+            )
         _log_y(ax, np.concatenate([df["ci_low"].to_numpy(dtype=float), df["ci_high"].to_numpy(dtype=float)]), pad=1.6)
         ax.set_title(f"stage {stage}")
         ax.set_xticks(np.arange(len(scenes)), scenes)
         ax.grid(axis="y", which="both", alpha=0.3)
     axes[0][0].set_ylabel("render_ms per frame (median, log scale)")
     handles = {h.get_label(): h for ax in axes[0] for h in ax.get_legend_handles_labels()[0]}
-    axes[0][-1].legend([handles[label] for label in labels if label in handles],
-                       [label for label in labels if label in handles],
-                       fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1))
+    axes[0][-1].legend(
+        [handles[label] for label in labels if label in handles],
+        [label for label in labels if label in handles],
+        fontsize=7,
+        loc="upper left",
+        bbox_to_anchor=(1.02, 1),
+    )
     fig.suptitle(f"Render time per frame ({_size_text(df)})")
     return save(fig, stem)
 
@@ -148,8 +159,12 @@ def _scenes_by_size(df: pd.DataFrame) -> list[str]:
     """The scenes from fewest spheres to most (then by name)."""
     counts = df.groupby(names.SCENE)[names.SPHERES].first()
     return sorted(counts.index, key=lambda scene: (counts[scene], scene))
+
+
 def _size_text(df: pd.DataFrame) -> str:
-    sizes = sorted({(int(w), int(h)) for w, h in zip(df[names.WIDTH], df[names.HEIGHT])}, key=lambda s: (s[0] * s[1], s))
+    sizes = sorted(
+        {(int(w), int(h)) for w, h in zip(df[names.WIDTH], df[names.HEIGHT])}, key=lambda s: (s[0] * s[1], s)
+    )
     return ", ".join(f"{w}x{h}" for w, h in sizes)
 
 
@@ -161,11 +176,15 @@ def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     keys = [names.RENDERER, names.LANES, names.ACCEL, names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT]
     for key, group in scaling.groupby(keys, sort=False):
-        renderer, lanes, accel, scene, stage, w, h = key
+        renderer, lanes, _accel, scene, stage, _w, _h = key
         lane_text = f" l{lanes}" if lanes > 1 else ""
         accel_text = "".join(f" {tag}" for tag in names.accel_tag(group.iloc[0]))
-        ax.plot(group[names.THREADS], group["scaling_speedup"], marker="o",
-                label=f"{renderer}{lane_text}{accel_text} {scene} {stage}")
+        ax.plot(
+            group[names.THREADS],
+            group["scaling_speedup"],
+            marker="o",
+            label=f"{renderer}{lane_text}{accel_text} {scene} {stage}",
+        )
     top = int(scaling[names.THREADS].max())
     ax.plot([1, top], [1, top], "k--", linewidth=1, label="ideal")
     ax.set_xlabel("threads")
@@ -180,8 +199,9 @@ def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
 def _grid(frames: pd.DataFrame):
     stages_ = _ordered(frames[names.STAGE], names.stage_order)
     scenes = list(pd.unique(frames[names.SCENE]))
-    fig, axes = plt.subplots(len(stages_), len(scenes), figsize=(4.0 * len(scenes) + 1.5, 2.8 * len(stages_) + 0.6),
-                             squeeze=False)
+    fig, axes = plt.subplots(
+        len(stages_), len(scenes), figsize=(4.0 * len(scenes) + 1.5, 2.8 * len(stages_) + 0.6), squeeze=False
+    )
     return fig, axes, stages_, scenes
 
 
@@ -242,8 +262,13 @@ def distributions(frames: pd.DataFrame, stem: Path) -> list[Path]:
         groups.sort(key=lambda g: names.renderer_order(g[names.RENDERER].iloc[0]))
         if groups:
             ax.boxplot([g[names.RENDER_MS].to_numpy() for g in groups], showmeans=True, widths=0.6)
-            ax.set_xticks(range(1, len(groups) + 1), [_config_label(g, with_size) for g in groups], rotation=30, ha="right",
-                          fontsize=7)
+            ax.set_xticks(
+                range(1, len(groups) + 1),
+                [_config_label(g, with_size) for g in groups],
+                rotation=30,
+                ha="right",
+                fontsize=7,
+            )
         _log_y(ax, part[names.RENDER_MS])
         ax.set_title(f"{scene}, {stage}", fontsize=8)
         ax.grid(axis="y", alpha=0.3, which="both")
@@ -294,10 +319,17 @@ def cost_vs_spheres(curves: pd.DataFrame, fits: pd.DataFrame, stem: Path) -> lis
         points = curves[curves[metrics.CURVE] == fit[metrics.CURVE]]
         color = colors(i)
         marker = ACCEL_MARKERS[names.accel_order(fit[names.ACCEL]) % len(ACCEL_MARKERS)]
-        label = " ".join([fit[names.RENDERER], *_option_texts(fit), fit[names.ACCEL],
-                          *(str(fit[key]) for key in label_keys)])
-        ax.plot(points[names.SPHERES], points["median"], marker=marker, linestyle="none", color=color,
-                label=f"{label}: k = {fit['exponent']:.2f}")
+        label = " ".join(
+            [fit[names.RENDERER], *_option_texts(fit), fit[names.ACCEL], *(str(fit[key]) for key in label_keys)]
+        )
+        ax.plot(
+            points[names.SPHERES],
+            points["median"],
+            marker=marker,
+            linestyle="none",
+            color=color,
+            label=f"{label}: k = {fit['exponent']:.2f}",
+        )
         n = np.geomspace(fit["spheres_min"], fit["spheres_max"], 32)
         ax.plot(n, fit["coefficient"] * n ** fit["exponent"], linestyle="--", linewidth=1, color=color)
     ax.set_xscale("log")
@@ -335,10 +367,15 @@ def karp_flatt_vs_p(metrics_table: pd.DataFrame, stem: Path) -> list[Path]:
     for family in families:
         renderer = family[names.RENDERER].iloc[0]
         by_lanes = names.accepts(renderer, names.THREADS)
-        for lanes, line in (family.groupby(names.LANES, sort=True) if by_lanes else [(None, family)]):
+        for lanes, line in family.groupby(names.LANES, sort=True) if by_lanes else [(None, family)]:
             line = line.sort_values("p")
-            text = " ".join([renderer, *([f"l{lanes}"] if lanes and lanes > 1 else []),
-                             *(str(line[key].iloc[0]) for key in label_keys)])
+            text = " ".join(
+                [
+                    renderer,
+                    *([f"l{lanes}"] if lanes and lanes > 1 else []),
+                    *(str(line[key].iloc[0]) for key in label_keys),
+                ]
+            )
             ax.plot(line["p"], line["karp_flatt"], marker="o", label=text)
     ax.set_xscale("log", base=2)
     ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))

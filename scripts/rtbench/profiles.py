@@ -86,6 +86,7 @@ class Profile:
 
 # --- reading -----------------------------------------------------------------
 
+
 def profile_path(name_or_path: str, profiles_dir: Path = PROFILES_DIR) -> Path:
     """`paper` means profiles/paper.toml; anything that names a file is used as is."""
     candidate = Path(name_or_path)
@@ -118,11 +119,25 @@ def parse_profile(raw: dict, path: Path) -> Profile:
     renderers = _renderers(values["renderers"], path)
     overrides = tuple(_override(o, path, i, variants) for i, o in enumerate(values["overrides"]))
     return Profile(
-        name=path.stem, path=path, description=values["description"], preset=values["preset"],
-        scenes=tuple(values["scenes"]), variants=variants, accels=tuple(values["accels"]), renderers=renderers,
-        width=values["width"], height=values["height"], warmup=values["warmup"], frames=values["frames"],
-        repetitions=values["repetitions"], interleave=values["interleave"], seed=values["seed"],
-        args=tuple(values["args"]), timeout_s=float(values["timeout_s"]), overrides=overrides, raw=raw,
+        name=path.stem,
+        path=path,
+        description=values["description"],
+        preset=values["preset"],
+        scenes=tuple(values["scenes"]),
+        variants=variants,
+        accels=tuple(values["accels"]),
+        renderers=renderers,
+        width=values["width"],
+        height=values["height"],
+        warmup=values["warmup"],
+        frames=values["frames"],
+        repetitions=values["repetitions"],
+        interleave=values["interleave"],
+        seed=values["seed"],
+        args=tuple(values["args"]),
+        timeout_s=float(values["timeout_s"]),
+        overrides=overrides,
+        raw=raw,
     )
 
 
@@ -202,8 +217,14 @@ OVERRIDE_AXES = ("threads", "lanes")
 # The values of each axis of [renderers.NAME]; a renderer option the schema
 # gains later takes any integer or string until it has a rule here.
 AXIS_RULES = {
-    "threads": Rule("int|str", OPTIONAL, "axis", minimum=1, pattern=r"all|\d+|(\d+|all)\.\.(\d+|all)",
-                    what='a positive integer, "all" or a range "A..B" (B may be "all")'),
+    "threads": Rule(
+        "int|str",
+        OPTIONAL,
+        "axis",
+        minimum=1,
+        pattern=r"all|\d+|(\d+|all)\.\.(\d+|all)",
+        what='a positive integer, "all" or a range "A..B" (B may be "all")',
+    ),
     "lanes": Rule("int|str", OPTIONAL, "axis", choices=(*names.LANE_WIDTHS, NATIVE_LANES)),
     "grain": Rule("int", OPTIONAL, "axis", minimum=1),
     "partition": Rule("str", OPTIONAL, "axis", choices=tuple(names.PARTITIONS)),
@@ -297,8 +318,10 @@ def _renderers(table: dict, path: Path) -> dict[str, dict[str, list]]:
         refused = [key for key in spec if key in names.OPTION_FLAGS and not names.accepts(renderer, key)]
         if refused:
             accepted = ", ".join(names.RENDERER_OPTIONS[renderer]) or "none"
-            raise ProfileError(f"{path}: {where}{refused[0]}: renderer {renderer} does not take {refused[0]} "
-                               f"(schema/rt_schema.json: its options are {accepted})")
+            raise ProfileError(
+                f"{path}: {where}{refused[0]}: renderer {renderer} does not take {refused[0]} "
+                f"(schema/rt_schema.json: its options are {accepted})"
+            )
         result[renderer] = check_table(spec, renderer_rules(renderer), path, where)
     return result
 
@@ -315,6 +338,7 @@ def _override(entry: dict, path: Path, index: int, variants: tuple[Variant, ...]
 
 # --- scenes ------------------------------------------------------------------
 
+
 def resolve_scene(arg: str, scenes_dir: Path = SCENES_DIR) -> Path:
     """A scene given by name means scenes/NAME.json, else, for a name the
     generator makes (randomN), GENERATED_SCENES/NAME.json; a path is used as is."""
@@ -328,6 +352,8 @@ def resolve_scene(arg: str, scenes_dir: Path = SCENES_DIR) -> Path:
         if scenes.recipe(arg) is not None:
             return GENERATED_SCENES / f"{arg}.json"
         known = ", ".join(sorted(p.stem for p in scenes_dir.glob("*.json")))
-        raise ProfileError(f"no scene {arg!r}: {named} does not exist and the generator makes default and randomN "
-                           f"only (scenes: {known})")
+        raise ProfileError(
+            f"no scene {arg!r}: {named} does not exist and the generator makes default and randomN "
+            f"only (scenes: {known})"
+        )
     raise ProfileError(f"scene file {arg} does not exist")

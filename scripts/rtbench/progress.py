@@ -89,8 +89,9 @@ def filter_stream(lines, log, out, label: str) -> BuildProgress:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python3 -m rtbench.progress", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        prog="python3 -m rtbench.progress", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("label", help="what the lines start with, e.g. 'building preset debug'")
     parser.add_argument("--log", type=Path, required=True, help="where the whole output goes")
     args = parser.parse_args(argv)

@@ -67,14 +67,23 @@ class ReportResults:
     written: list[Path] = field(default_factory=list)
 
 
-def gather(run_dirs: list[Path], gpu_override: float | None = None,
-           budgets_ms: tuple[float, ...] = budget.DEFAULT_BUDGETS_MS) -> ReportInputs:
+def gather(
+    run_dirs: list[Path], gpu_override: float | None = None, budgets_ms: tuple[float, ...] = budget.DEFAULT_BUDGETS_MS
+) -> ReportInputs:
     """Loads the runs (strictly: errors name the file) and the thesis' data."""
     run_dirs = [Path(d) for d in run_dirs]
     frames = load.load_runs(run_dirs)
     manifests = [load.read_manifest(d) for d in run_dirs]
-    return ReportInputs(run_dirs, frames, manifests, thesis.load_tables(), thesis.load_reported(),
-                        metrics.load_gpu_estimates(), gpu_override, tuple(budgets_ms))
+    return ReportInputs(
+        run_dirs,
+        frames,
+        manifests,
+        thesis.load_tables(),
+        thesis.load_reported(),
+        metrics.load_gpu_estimates(),
+        gpu_override,
+        tuple(budgets_ms),
+    )
 
 
 def compute(inputs: ReportInputs) -> ReportResults:
@@ -89,8 +98,9 @@ def compute(inputs: ReportInputs) -> ReportResults:
     built = build_tables(summary, met, thesis_metrics, inputs.thesis_tables, fits)
     budgets = budget.summarize_budgets(inputs.frames, inputs.budgets_ms)
     built.append(budget.budget_table(budgets, inputs.budgets_ms))
-    return ReportResults(summary, met, scaling, curves, fits, thesis_metrics, built, collect_warnings(inputs, summary),
-                         budgets=budgets)
+    return ReportResults(
+        summary, met, scaling, curves, fits, thesis_metrics, built, collect_warnings(inputs, summary), budgets=budgets
+    )
 
 
 def build_tables(summary, met, thesis_metrics, thesis_tables, fits) -> list[tables.Table]:
@@ -125,8 +135,9 @@ def _scene_order(summary: pd.DataFrame, thesis_tables: pd.DataFrame) -> list[str
     own scenes), ties in the thesis' order, then by name."""
     thesis_order = list(pd.unique(thesis_tables["scene"]))
     spheres = summary.groupby(names.SCENE)[names.SPHERES].first()
-    return sorted(spheres.index, key=lambda s: (spheres[s], thesis_order.index(s) if s in thesis_order else
-                                                len(thesis_order), s))
+    return sorted(
+        spheres.index, key=lambda s: (spheres[s], thesis_order.index(s) if s in thesis_order else len(thesis_order), s)
+    )
 
 
 def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
@@ -142,24 +153,42 @@ def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
         warnings.append("the binary was built from a work tree with uncommitted changes (git_dirty)")
     outliers = int(summary["outliers"].sum())
     if outliers:
-        warnings.append(f"{outliers} frame(s) flagged as outliers (|modified z| > {stats.OUTLIER_LIMIT}); kept in "
-                        f"every statistic, listed in {DATA_DIR}/outliers.csv")
+        warnings.append(
+            f"{outliers} frame(s) flagged as outliers (|modified z| > {stats.OUTLIER_LIMIT}); kept in "
+            f"every statistic, listed in {DATA_DIR}/outliers.csv"
+        )
     return list(dict.fromkeys(warnings))
 
 
 # --- the command (scripts/report.py, python3 -m rtbench report) ---------------------
 
+
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
-    parser = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR",
-                        help="run directory written by scripts/bench, or a run archive "
-                             "(.tar.xz, data/reference-runs/README.md)")
+    parser = argparse.ArgumentParser(
+        prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument(
+        "run_dirs",
+        nargs="+",
+        type=Path,
+        metavar="RUN_DIR",
+        help="run directory written by scripts/bench, or a run archive (.tar.xz, data/reference-runs/README.md)",
+    )
     parser.add_argument("-o", "--output", type=Path, default=Path("report"), help="report directory (default: report/)")
-    parser.add_argument("--gpu-p", type=float, metavar="N",
-                        help="processor count of the GPU for Karp-Flatt (default: per-device estimate, "
-                             "data/gpu_processors.toml)")
-    parser.add_argument("--budget-ms", type=float, nargs="+", default=list(budget.DEFAULT_BUDGETS_MS), metavar="MS",
-                        help="frame budgets of the frame-budget table (default: 16.67 33.33)")
+    parser.add_argument(
+        "--gpu-p",
+        type=float,
+        metavar="N",
+        help="processor count of the GPU for Karp-Flatt (default: per-device estimate, data/gpu_processors.toml)",
+    )
+    parser.add_argument(
+        "--budget-ms",
+        type=float,
+        nargs="+",
+        default=list(budget.DEFAULT_BUDGETS_MS),
+        metavar="MS",
+        help="frame budgets of the frame-budget table (default: 16.67 33.33)",
+    )
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     args = parser.parse_args(argv)
     if args.gpu_p is not None and args.gpu_p <= 1:
@@ -183,6 +212,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
 
 
 # --- writing ---------------------------------------------------------------------
+
 
 def write(inputs: ReportInputs, results: ReportResults, out: Path) -> list[Path]:
     """Writes every file of the report, then removes stale files that an
@@ -243,8 +273,15 @@ def _speedup_pairs(results: ReportResults, inputs: ReportInputs) -> pd.DataFrame
     rows = []
     for r in published[published["scene"] == scene].itertuples(index=False):
         hit = ours[(ours[names.SCENE] == scene) & (ours[names.RENDERER] == r.renderer) & (ours[names.STAGE] == r.stage)]
-        rows.append({"renderer": r.renderer, "stage": r.stage, "scene": scene, "thesis": r.speedup,
-                     "ours": hit["speedup"].iloc[0] if len(hit) else math.nan})
+        rows.append(
+            {
+                "renderer": r.renderer,
+                "stage": r.stage,
+                "scene": scene,
+                "thesis": r.speedup,
+                "ours": hit["speedup"].iloc[0] if len(hit) else math.nan,
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -257,6 +294,7 @@ def remove_stale(out: Path, written: list[Path]) -> None:
 
 
 # --- README ------------------------------------------------------------------------
+
 
 def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list[Path]], out: Path) -> str:
     """report/README.md: what ran, warnings, how to read it, the tables, figures."""
@@ -289,8 +327,9 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         _figure(figures, "render_ms", "Render time per frame", out),
         _figure(figures, "scaling", "Strong scaling", out)
         or "No strong-scaling figure: this run has one thread count per renderer (use `--profile scaling`).\n",
-        "" if figures.get("cost_vs_spheres") else
-        f"No cost-vs-spheres figure: no configuration of this run ran on {metrics.MIN_SPHERE_COUNTS} or more "
+        ""
+        if figures.get("cost_vs_spheres")
+        else f"No cost-vs-spheres figure: no configuration of this run ran on {metrics.MIN_SPHERE_COUNTS} or more "
         "sphere counts (use `--profile scene-size`).\n",
         _figure(figures, "frame_series", "Frame times in run order", out),
         _figure(figures, "distributions", "Frame-time distributions", out),
@@ -313,7 +352,8 @@ def _missing_tables_note(thesis_tables: pd.DataFrame, built: list[tables.Table])
     if not missing:
         return ""
     which = ", ".join(f"{spec.number} ({spec.stage}: {', '.join(spec.renderers)})" for spec in missing)
-    return f"Not shown, since none of their renderers ran at their stage in this run: table{'s' * (len(missing) > 1)} {which}.\n"
+    noun = "tables" if len(missing) > 1 else "table"
+    return f"Not shown, since none of their renderers ran at their stage in this run: {noun} {which}.\n"
 
 
 def _cost_section(by_slug: dict[str, tables.Table], figures: dict[str, list[Path]], out: Path) -> str:
@@ -321,8 +361,13 @@ def _cost_section(by_slug: dict[str, tables.Table], figures: dict[str, list[Path
     configurations on enough sphere counts to fit it."""
     if "cost-vs-spheres" not in by_slug:
         return ""
-    return "\n".join(["## Cost vs spheres\n", tables.to_markdown(by_slug["cost-vs-spheres"]),
-                      _figure(figures, "cost_vs_spheres", "Cost vs spheres (log-log, fitted power laws)", out)])
+    return "\n".join(
+        [
+            "## Cost vs spheres\n",
+            tables.to_markdown(by_slug["cost-vs-spheres"]),
+            _figure(figures, "cost_vs_spheres", "Cost vs spheres (log-log, fitted power laws)", out),
+        ]
+    )
 
 
 def _what_ran(inputs: ReportInputs, results: ReportResults) -> str:
@@ -331,16 +376,22 @@ def _what_ran(inputs: ReportInputs, results: ReportResults) -> str:
     for d, m in zip(inputs.run_dirs, inputs.manifests, strict=True):
         profile = (m or {}).get("profile", {}).get("name", "(no manifest)")
         lines.append(f"| run | `{d.name}` (profile `{profile}`) |")
-    lines.append(f"| CPU | {', '.join(sorted(set(frames[names.CPU_MODEL])))} "
-                 f"({', '.join(map(str, sorted(set(frames[names.LOGICAL_CORES]))))} logical cores) |")
+    lines.append(
+        f"| CPU | {', '.join(sorted(set(frames[names.CPU_MODEL])))} "
+        f"({', '.join(map(str, sorted(set(frames[names.LOGICAL_CORES]))))} logical cores) |"
+    )
     devices = sorted({d for d in frames[names.DEVICE] if d})
     if devices:
         lines.append(f"| Vulkan device | {', '.join(devices)} |")
-    commits = sorted({f"{c[:12]}{' (dirty)' if d else ''}" for c, d in zip(frames[names.GIT_COMMIT], frames[names.GIT_DIRTY])})
+    commits = sorted(
+        {f"{c[:12]}{' (dirty)' if d else ''}" for c, d in zip(frames[names.GIT_COMMIT], frames[names.GIT_DIRTY])}
+    )
     lines.append(f"| build | {', '.join(sorted(set(frames[names.BUILD_TYPE])))}, commit {', '.join(commits)} |")
     s = results.summary
-    lines.append(f"| configurations | {len(s)}, {int(s['n'].sum())} measured frames "
-                 f"({int(frames[names.WARMUP].sum())} warm-up frames excluded) |")
+    lines.append(
+        f"| configurations | {len(s)}, {int(s['n'].sum())} measured frames "
+        f"({int(frames[names.WARMUP].sum())} warm-up frames excluded) |"
+    )
     lines.append(f"| image sizes | {', '.join(f'{w}x{h}' for w, h in tables.sizes(s))} |")
     return "\n".join(lines) + "\n"
 
@@ -371,15 +422,19 @@ def _unfinished_section(run_dirs: list[Path], manifests: list[dict | None]) -> s
         return ""
     lines = ["## Runs without data\n", "| run | status | exit | reason |", "|:--|:--|--:|:--|"]
     for run_dir, config, reps in missing:
-        lines.append(f"| {config} {' '.join(f'r{r}' for r in reps)} | missing (the run was stopped) | | "
-                     f"`scripts/bench --resume {run_dir}` runs it |")
+        lines.append(
+            f"| {config} {' '.join(f'r{r}' for r in reps)} | missing (the run was stopped) | | "
+            f"`scripts/bench --resume {run_dir}` runs it |"
+        )
     unavailable: dict[str, list[dict]] = {}
     for r in rows:
         if r.get("status") == RunStatus.UNAVAILABLE:
             unavailable.setdefault(r.get("renderer", "?"), []).append(r)
             continue
-        lines.append(f"| {r.get('config')} r{r.get('repetition')} | {r.get('status')} | "
-                     f"{'' if r.get('exit_code') is None else r.get('exit_code')} | {_reason(r)} |")
+        lines.append(
+            f"| {r.get('config')} r{r.get('repetition')} | {r.get('status')} | "
+            f"{'' if r.get('exit_code') is None else r.get('exit_code')} | {_reason(r)} |"
+        )
     for renderer, runs in unavailable.items():
         lines.append(f"| every {renderer} run ({len(runs)}) | unavailable in this binary | | {_reason(runs[0])} |")
     return "\n".join(lines) + "\n"
@@ -413,23 +468,29 @@ HOW_TO_READ = """## How to read this report
 """
 
 
-
 def thesis_note(thesis_metrics: pd.DataFrame) -> str:
     """Says, with the numbers, that the thesis' Karp-Flatt values do not
     follow from its own table while its speedups do."""
     kf = thesis_metrics.dropna(subset=["karp_flatt_reported"])
-    off = [f"{r.stage} {r.renderer} on {r.scene}: stated {tables.fmt_sig(r.karp_flatt_reported)}, "
-           f"recomputed {tables.fmt_sig(r.karp_flatt_recomputed)} (p = {int(r.p)})"
-           for r in kf.itertuples(index=False)
-           if not math.isclose(r.karp_flatt_reported, r.karp_flatt_recomputed, rel_tol=0.02)]
-    s_ok = all(math.isclose(a, b, rel_tol=1e-3) for a, b in
-               zip(thesis_metrics["speedup_reported"], thesis_metrics["speedup_recomputed"]) if math.isfinite(a))
-    text = ("The thesis' speedups " + ("follow from" if s_ok else "do not all follow from") +
-            " its published times. ")
+    off = [
+        f"{r.stage} {r.renderer} on {r.scene}: stated {tables.fmt_sig(r.karp_flatt_reported)}, "
+        f"recomputed {tables.fmt_sig(r.karp_flatt_recomputed)} (p = {int(r.p)})"
+        for r in kf.itertuples(index=False)
+        if not math.isclose(r.karp_flatt_reported, r.karp_flatt_recomputed, rel_tol=0.02)
+    ]
+    s_ok = all(
+        math.isclose(a, b, rel_tol=1e-3)
+        for a, b in zip(thesis_metrics["speedup_reported"], thesis_metrics["speedup_recomputed"])
+        if math.isfinite(a)
+    )
+    text = "The thesis' speedups " + ("follow from" if s_ok else "do not all follow from") + " its published times. "
     if off:
-        text += ("Its Karp-Flatt values do not: with its own p and its own times they come out as follows, and "
-                 "this report uses the recomputed values wherever it compares with the thesis.\n\n" +
-                 "\n".join(f"- {o}" for o in off) + "\n")
+        text += (
+            "Its Karp-Flatt values do not: with its own p and its own times they come out as follows, and "
+            "this report uses the recomputed values wherever it compares with the thesis.\n\n"
+            + "\n".join(f"- {o}" for o in off)
+            + "\n"
+        )
     else:
         text += "Its Karp-Flatt values follow from them too.\n"
     return text

@@ -33,8 +33,20 @@ class Interrupted(KeyboardInterrupt):
 def probe_renderer(binary: Path, renderer: str, scene_path: str, cwd: Path, timeout: float = 120) -> str | None:
     """None if the binary can run `renderer` at all (a 4x4 frame), else why not
     (e.g. 'not built' in this build, or no Vulkan device)."""
-    argv = [str(binary), names.RENDERER_FLAGS[renderer], scene_path, "--width", "4", "--height", "4",
-            "--warmup", "0", "--frames", "1", "--quiet"]
+    argv = [
+        str(binary),
+        names.RENDERER_FLAGS[renderer],
+        scene_path,
+        "--width",
+        "4",
+        "--height",
+        "4",
+        "--warmup",
+        "0",
+        "--frames",
+        "1",
+        "--quiet",
+    ]
     try:
         code, out, err = run_process(argv, cwd, timeout)
     except subprocess.TimeoutExpired:
@@ -54,8 +66,9 @@ def run_process(argv: list[str], cwd: Path, timeout: float) -> tuple[int, str, s
     kills the whole group with SIGKILL and reaps it before propagating, so
     nothing it started keeps running. Its own group also keeps a terminal's
     Ctrl-C from reaching it before the runner has decided what to do."""
-    proc = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+    proc = subprocess.Popen(
+        argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
+    )
     try:
         out, err = proc.communicate(timeout=timeout)
     except subprocess.TimeoutExpired as e:

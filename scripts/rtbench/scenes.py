@@ -106,8 +106,10 @@ def random_scene(count: int, seed: int) -> dict:
     spread, half_height, orbit_radius = _layout(count)
     max_magnitude, _ = schema.scene_limits()
     if max(spread, orbit_radius) > max_magnitude:
-        raise ValueError(f"random{count}: the cluster would reach {orbit_radius:.3g}, beyond the scene limit "
-                         f"{max_magnitude:g} (scene_limits in schema/rt_schema.json)")
+        raise ValueError(
+            f"random{count}: the cluster would reach {orbit_radius:.3g}, beyond the scene limit "
+            f"{max_magnitude:g} (scene_limits in schema/rt_schema.json)"
+        )
     rng = random.Random(seed)
     spheres = []
     for _ in range(count):
@@ -161,9 +163,15 @@ def to_json(scene: dict) -> str:
 
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
-    parser = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("names", nargs="*", metavar="NAME",
-                        help=f"scene(s): default or randomN (N spheres, seed N); committed: {', '.join(COMMITTED)}")
+    parser = argparse.ArgumentParser(
+        prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument(
+        "names",
+        nargs="*",
+        metavar="NAME",
+        help=f"scene(s): default or randomN (N spheres, seed N); committed: {', '.join(COMMITTED)}",
+    )
     parser.add_argument("--random", type=int, metavar="N", help="a random scene of N spheres")
     parser.add_argument("--seed", type=int, default=1, help="seed for --random (default 1)")
     parser.add_argument("-o", "--output-dir", type=Path, required=True, help="directory to write NAME.json into")
@@ -189,4 +197,3 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
         atomic.write_text(path, to_json(scene))
         print(f"wrote {path} ({len(scene['spheres'])} spheres)")
     return 0
-

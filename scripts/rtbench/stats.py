@@ -62,8 +62,9 @@ def percentile(values, q: float) -> float:
     return float(np.percentile(x, q)) if x.size else math.nan
 
 
-def bootstrap_median_ci(values, confidence: float = CONFIDENCE, resamples: int = BOOTSTRAP_RESAMPLES,
-                        seed: int = BOOTSTRAP_SEED) -> tuple[float, float]:
+def bootstrap_median_ci(
+    values, confidence: float = CONFIDENCE, resamples: int = BOOTSTRAP_RESAMPLES, seed: int = BOOTSTRAP_SEED
+) -> tuple[float, float]:
     """Percentile-bootstrap confidence interval of the median. Seeded, so the
     same data always give the same interval (reports are reproducible)."""
     x = finite(values)
@@ -144,11 +145,26 @@ def summarize_configs(frames: pd.DataFrame, value: str = names.RENDER_MS) -> pd.
         row = dict(zip(CONFIG_KEYS, key))
         row.update(summarize(group[value].to_numpy()))
         rep_medians = group.groupby(names.REPETITION)[value].median().to_numpy()
-        row["repetitions"] = int(len(rep_medians))
+        row["repetitions"] = len(rep_medians)
         row["rep_spread"] = coefficient_of_variation(rep_medians)
         rows.append(row)
-    columns = [*CONFIG_KEYS, "n", "median", "mean", "std", "mad", "ci_low", "ci_high", "p95", "p99", "min", "max",
-               "outliers", "repetitions", "rep_spread"]
+    columns = [
+        *CONFIG_KEYS,
+        "n",
+        "median",
+        "mean",
+        "std",
+        "mad",
+        "ci_low",
+        "ci_high",
+        "p95",
+        "p99",
+        "min",
+        "max",
+        "outliers",
+        "repetitions",
+        "rep_spread",
+    ]
     summary = pd.DataFrame(rows, columns=columns)
     return sort_configs(summary)
 
@@ -177,6 +193,7 @@ def sort_configs(df: pd.DataFrame) -> pd.DataFrame:
         _renderer=df[names.RENDERER].map(names.renderer_order),
         _accel=df[names.ACCEL].map(names.accel_order),
     )
-    key = key.sort_values(["_stage", names.SCENE, "_renderer", "_accel", names.THREADS, names.LANES, names.WIDTH],
-                          kind="stable")
+    key = key.sort_values(
+        ["_stage", names.SCENE, "_renderer", "_accel", names.THREADS, names.LANES, names.WIDTH], kind="stable"
+    )
     return key.drop(columns=["_stage", "_renderer", "_accel"]).reset_index(drop=True)

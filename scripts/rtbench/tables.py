@@ -7,6 +7,7 @@ goes to report/README.md, report/tables/*.md and report/tables/*.tex.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -29,6 +30,7 @@ class Table:
 
 
 # --- number formatting ------------------------------------------------------------
+
 
 def fmt_ms(x: float) -> str:
     """Milliseconds with about four significant digits."""
@@ -62,8 +64,10 @@ def fmt_int(x) -> str:
 
 # --- rendering ------------------------------------------------------------------
 
+
 def to_markdown(table: Table) -> str:
     """A GitHub-flavoured Markdown table with its title and notes."""
+
     def cells(values: list[str]) -> str:
         return "| " + " | ".join(v.replace("|", "\\|") for v in values) + " |"
 
@@ -74,9 +78,23 @@ def to_markdown(table: Table) -> str:
     return "\n".join(lines) + "\n"
 
 
-LATEX_SPECIALS = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
-                  "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}", "–": "--",
-                  "×": r"$\times$", "±": r"$\pm$", "→": r"$\rightarrow$", "²": r"$^2$"}
+LATEX_SPECIALS = {
+    "\\": r"\textbackslash{}",
+    "&": r"\&",
+    "%": r"\%",
+    "$": r"\$",
+    "#": r"\#",
+    "_": r"\_",
+    "{": r"\{",
+    "}": r"\}",
+    "~": r"\textasciitilde{}",
+    "^": r"\textasciicircum{}",
+    "–": "--",
+    "×": r"$\times$",
+    "±": r"$\pm$",
+    "→": r"$\rightarrow$",
+    "²": r"$^2$",
+}
 
 
 def latex_escape(text: str) -> str:
@@ -85,13 +103,22 @@ def latex_escape(text: str) -> str:
 
 def to_latex(table: Table) -> str:
     """A booktabs table environment (needs \\usepackage{booktabs})."""
+
     def cells(values: list[str]) -> str:
         return " & ".join(latex_escape(v) for v in values) + r" \\"
 
     lines = [
-        r"\begin{table}[ht]", r"\centering", rf"\caption{{{latex_escape(table.title)}}}",
-        rf"\label{{tab:{table.slug}}}", rf"\begin{{tabular}}{{{table.align}}}", r"\toprule", cells(table.headers),
-        r"\midrule", *(cells(r) for r in table.rows), r"\bottomrule", r"\end{tabular}",
+        r"\begin{table}[ht]",
+        r"\centering",
+        rf"\caption{{{latex_escape(table.title)}}}",
+        rf"\label{{tab:{table.slug}}}",
+        rf"\begin{{tabular}}{{{table.align}}}",
+        r"\toprule",
+        cells(table.headers),
+        r"\midrule",
+        *(cells(r) for r in table.rows),
+        r"\bottomrule",
+        r"\end{tabular}",
     ]
     lines += [rf"\par\small {latex_escape(n)}" for n in table.notes]
     lines.append(r"\end{table}")
@@ -99,6 +126,7 @@ def to_latex(table: Table) -> str:
 
 
 # --- choosing configurations ---------------------------------------------------
+
 
 def sizes(summary: pd.DataFrame) -> list[tuple[int, int]]:
     """Image sizes in the run, the one with the most configurations first
@@ -149,8 +177,10 @@ def _describe_config(row: pd.Series) -> str:
 
 # --- builders ----------------------------------------------------------------------
 
-def thesis_mirror(summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int], scenes: list[str],
-                  name_size: bool = False) -> Table:
+
+def thesis_mirror(
+    summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int], scenes: list[str], name_size: bool = False
+) -> Table:
     """Our run in the shape of one thesis table: scenes x renderers, median
     render time per frame. name_size: the run has several sizes, so the
     size is in the table's slug and title (two Table 1s: which is which)."""
@@ -165,8 +195,10 @@ def thesis_mirror(summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int],
             if hit is not None and _describe_config(hit):
                 used.setdefault(renderer, _describe_config(hit))
         rows.append(row)
-    notes = [f"Median render_ms of the measured frames, {size[0]}x{size[1]}, stage {spec.stage}; "
-             f"{MISSING} = not in this run."]
+    notes = [
+        f"Median render_ms of the measured frames, {size[0]}x{size[1]}, stage {spec.stage}; "
+        f"{MISSING} = not in this run."
+    ]
     if used:
         notes.append("Configurations: " + "; ".join(f"{r}: {d}" for r, d in used.items()) + ".")
     notes += _brute_force_note(summary)
@@ -174,8 +206,14 @@ def thesis_mirror(summary: pd.DataFrame, spec: TableSpec, size: tuple[int, int],
     slug, name = f"table{spec.number}-{spec.stage}", f"Table {spec.number} ({spec.stage})"
     if name_size:
         slug, name = f"{slug}-{size_text}", f"{name}, {size_text}"
-    return Table(slug, f"{name}: render time per frame [ms]",
-                 ["scene", *spec.renderers], rows, "l" + "r" * len(spec.renderers), notes)
+    return Table(
+        slug,
+        f"{name}: render time per frame [ms]",
+        ["scene", *spec.renderers],
+        rows,
+        "l" + "r" * len(spec.renderers),
+        notes,
+    )
 
 
 def _brute_force_note(summary: pd.DataFrame) -> list[str]:
@@ -184,8 +222,10 @@ def _brute_force_note(summary: pd.DataFrame) -> list[str]:
     others = sorted(set(summary[names.ACCEL]) - {names.BRUTE_FORCE}, key=names.accel_order)
     if not others:
         return []
-    return [f"Brute force only ({names.ACCEL} {names.BRUTE_FORCE}, the thesis' algorithm); the "
-            f"{', '.join(others)} configurations are in the summary table."]
+    return [
+        f"Brute force only ({names.ACCEL} {names.BRUTE_FORCE}, the thesis' algorithm); the "
+        f"{', '.join(others)} configurations are in the summary table."
+    ]
 
 
 def side_by_side(summary: pd.DataFrame, thesis_tables: pd.DataFrame, size: tuple[int, int]) -> Table:
@@ -197,19 +237,45 @@ def side_by_side(summary: pd.DataFrame, thesis_tables: pd.DataFrame, size: tuple
     for rec in thesis_tables.itertuples(index=False):
         ours = _lookup(heads, **{names.SCENE: rec.scene, names.RENDERER: rec.renderer, names.STAGE: rec.stage})
         ours_ref = _lookup(heads, **{names.SCENE: rec.scene, names.RENDERER: reference, names.STAGE: rec.stage})
-        thesis_ref = thesis_tables[(thesis_tables["stage"] == rec.stage) & (thesis_tables["scene"] == rec.scene)
-                                   & (thesis_tables["renderer"] == reference)]["ms"]
+        thesis_ref = thesis_tables[
+            (thesis_tables["stage"] == rec.stage)
+            & (thesis_tables["scene"] == rec.scene)
+            & (thesis_tables["renderer"] == reference)
+        ]["ms"]
         ours_ms = ours["median"] if ours is not None else math.nan
         ref_ms = ours_ref["median"] if ours_ref is not None else math.nan
         thesis_s = thesis_ref.iloc[0] / rec.ms if len(thesis_ref) else math.nan
-        rows.append([str(rec.table), rec.stage, rec.renderer, rec.scene, fmt_ms(rec.ms), fmt_ms(ours_ms),
-                     fmt_fixed(thesis_s), fmt_fixed(ref_ms / ours_ms if ours_ms > 0 else math.nan)])
+        rows.append(
+            [
+                str(rec.table),
+                rec.stage,
+                rec.renderer,
+                rec.scene,
+                fmt_ms(rec.ms),
+                fmt_ms(ours_ms),
+                fmt_fixed(thesis_s),
+                fmt_fixed(ref_ms / ours_ms if ours_ms > 0 else math.nan),
+            ]
+        )
     return Table(
-        "thesis-vs-ours", f"The thesis' published times beside ours ({size[0]}x{size[1]})",
-        ["table", "stage", "renderer", "scene", "thesis ms", "ours ms", f"thesis S vs {reference}", f"ours S vs {reference}"],
-        rows, "lllrrrrr",
-        [f"Thesis: mean per frame, 800x600, Apple M1, -O0. Ours: median per frame on this run's machine and build. "
-         f"Times differ by machine and compiler settings; the speedups over {reference} are what compares."],
+        "thesis-vs-ours",
+        f"The thesis' published times beside ours ({size[0]}x{size[1]})",
+        [
+            "table",
+            "stage",
+            "renderer",
+            "scene",
+            "thesis ms",
+            "ours ms",
+            f"thesis S vs {reference}",
+            f"ours S vs {reference}",
+        ],
+        rows,
+        "lllrrrrr",
+        [
+            f"Thesis: mean per frame, 800x600, Apple M1, -O0. Ours: median per frame on this run's machine and build. "
+            f"Times differ by machine and compiler settings; the speedups over {reference} are what compares."
+        ],
     )
 
 
@@ -227,16 +293,26 @@ def stage_effects(summary: pd.DataFrame, thesis_tables: pd.DataFrame, size: tupl
             theirs = [_thesis_ms(published, scene, renderer, st) for st in stage_names]
             gains = [_ratio(ours[i], ours[i + 1]) for i in range(len(stage_names) - 1)]
             thesis_gains = [_ratio(theirs[i], theirs[i + 1]) for i in range(len(stage_names) - 1)]
-            rows.append([scene, renderer, *map(fmt_ms, ours), *(f"{fmt_fixed(g, 2)} ({fmt_fixed(t, 2)})"
-                                                                  for g, t in zip(gains, thesis_gains))])
-    steps = [f"{a} → {b}" for a, b in zip(stage_names, stage_names[1:])]
+            rows.append(
+                [
+                    scene,
+                    renderer,
+                    *map(fmt_ms, ours),
+                    *(f"{fmt_fixed(g, 2)} ({fmt_fixed(t, 2)})" for g, t in zip(gains, thesis_gains)),
+                ]
+            )
+    steps = [f"{a} → {b}" for a, b in itertools.pairwise(stage_names)]
     return Table(
-        "stage-effects", f"What the stages change: median render_ms and speedup of each step ({size[0]}x{size[1]})",
+        "stage-effects",
+        f"What the stages change: median render_ms and speedup of each step ({size[0]}x{size[1]})",
         ["scene", "renderer", *(f"{st} ms" for st in stage_names), *(f"{s} ours (thesis)" for s in steps)],
-        rows, "ll" + "r" * (2 * len(stage_names) - 1),
-        ["A step's speedup is the time before it divided by the time after it (> 1: the step helped). "
-         "The stages differ by algorithm (two-pass → single-pass) and early exits "
-         "(see schema/rt_schema.json); sphere and discriminant exits only change the SIMD renderers."],
+        rows,
+        "ll" + "r" * (2 * len(stage_names) - 1),
+        [
+            "A step's speedup is the time before it divided by the time after it (> 1: the step helped). "
+            "The stages differ by algorithm (two-pass → single-pass) and early exits "
+            "(see schema/rt_schema.json); sphere and discriminant exits only change the SIMD renderers."
+        ],
     )
 
 
@@ -303,18 +379,29 @@ def metrics_our(metrics: pd.DataFrame) -> Table:
     rows = []
     for r in metrics.itertuples(index=False):
         d = r._asdict()
-        rows.append([*_config_cells(d), fmt_ms(d["ref_median"]), fmt_ms(d["median"]),
-                     f"{fmt_fixed(d['speedup'])} [{fmt_fixed(d['speedup_low'], 2)}, {fmt_fixed(d['speedup_high'], 2)}]",
-                     fmt_int(d["p"]) if math.isfinite(d["p"]) else MISSING, fmt_sig(d["karp_flatt"])])
+        rows.append(
+            [
+                *_config_cells(d),
+                fmt_ms(d["ref_median"]),
+                fmt_ms(d["median"]),
+                f"{fmt_fixed(d['speedup'])} [{fmt_fixed(d['speedup_low'], 2)}, {fmt_fixed(d['speedup_high'], 2)}]",
+                fmt_int(d["p"]) if math.isfinite(d["p"]) else MISSING,
+                fmt_sig(d["karp_flatt"]),
+            ]
+        )
     reference = names.reference_renderer()
     headers, align = _config_headers()
     return Table(
-        "metrics", f"Speedup over {reference} and Karp-Flatt metric (our run)",
+        "metrics",
+        f"Speedup over {reference} and Karp-Flatt metric (our run)",
         [*headers, f"{reference} ms", "ms", "S [range]", "p", "e"],
-        rows, align + "rrlrr",
-        ["S = T_ref / T (medians); range from the bootstrap CIs; e = (1/S - 1/p)/(1 - 1/p). "
-         "p = threads x lanes on the CPU; on the GPU the per-device estimate of data/gpu_processors.toml "
-         "(or --gpu-p). e is undefined for p = 1."],
+        rows,
+        align + "rrlrr",
+        [
+            "S = T_ref / T (medians); range from the bootstrap CIs; e = (1/S - 1/p)/(1 - 1/p). "
+            "p = threads x lanes on the CPU; on the GPU the per-device estimate of data/gpu_processors.toml "
+            "(or --gpu-p). e is undefined for p = 1."
+        ],
     )
 
 
@@ -325,16 +412,43 @@ def metrics_vs_thesis(thesis_metrics: pd.DataFrame, metrics: pd.DataFrame, size:
     for r in thesis_metrics.itertuples(index=False):
         hit = _lookup(ours, **{names.STAGE: r.stage, names.SCENE: r.scene, names.RENDERER: r.renderer})
         s, p, e = (hit["speedup"], hit["p"], hit["karp_flatt"]) if hit is not None else (math.nan,) * 3
-        rows.append([r.stage, r.scene, r.renderer, fmt_fixed(r.speedup_reported), fmt_fixed(r.speedup_recomputed),
-                     fmt_int(r.p), fmt_sig(r.karp_flatt_reported), fmt_sig(r.karp_flatt_recomputed),
-                     fmt_fixed(s), fmt_int(p) if math.isfinite(p) else MISSING, fmt_sig(e)])
+        rows.append(
+            [
+                r.stage,
+                r.scene,
+                r.renderer,
+                fmt_fixed(r.speedup_reported),
+                fmt_fixed(r.speedup_recomputed),
+                fmt_int(r.p),
+                fmt_sig(r.karp_flatt_reported),
+                fmt_sig(r.karp_flatt_recomputed),
+                fmt_fixed(s),
+                fmt_int(p) if math.isfinite(p) else MISSING,
+                fmt_sig(e),
+            ]
+        )
     return Table(
-        "metrics-vs-thesis", "Speedup and Karp-Flatt: the thesis as stated, as its own table gives, and ours",
-        ["stage", "scene", "renderer", "thesis S stated", "thesis S from its table", "thesis p", "thesis e stated",
-         "thesis e from its table", "ours S", "ours p", "ours e"],
-        rows, "lllrrrrrrrr",
-        ["'stated' is what the thesis' text says; 'from its table' recomputes the metric from its published "
-         "times with its own p. Ours: the headline configuration of this run at the same stage and scene."],
+        "metrics-vs-thesis",
+        "Speedup and Karp-Flatt: the thesis as stated, as its own table gives, and ours",
+        [
+            "stage",
+            "scene",
+            "renderer",
+            "thesis S stated",
+            "thesis S from its table",
+            "thesis p",
+            "thesis e stated",
+            "thesis e from its table",
+            "ours S",
+            "ours p",
+            "ours e",
+        ],
+        rows,
+        "lllrrrrrrrr",
+        [
+            "'stated' is what the thesis' text says; 'from its table' recomputes the metric from its published "
+            "times with its own p. Ours: the headline configuration of this run at the same stage and scene."
+        ],
     )
 
 
@@ -343,31 +457,72 @@ def summary_table(summary: pd.DataFrame) -> Table:
     rows = []
     for r in summary.itertuples(index=False):
         d = r._asdict()
-        rows.append([*_config_cells(d), fmt_int(d["n"]), fmt_ms(d["median"]), f"[{fmt_ms(d['ci_low'])}, {fmt_ms(d['ci_high'])}]",
-                     fmt_ms(d["mean"]), fmt_ms(d["std"]), fmt_ms(d["mad"]), fmt_ms(d["p95"]), fmt_ms(d["p99"]),
-                     fmt_int(d["outliers"]), fmt_int(d["repetitions"]), fmt_percent(d["rep_spread"])])
+        rows.append(
+            [
+                *_config_cells(d),
+                fmt_int(d["n"]),
+                fmt_ms(d["median"]),
+                f"[{fmt_ms(d['ci_low'])}, {fmt_ms(d['ci_high'])}]",
+                fmt_ms(d["mean"]),
+                fmt_ms(d["std"]),
+                fmt_ms(d["mad"]),
+                fmt_ms(d["p95"]),
+                fmt_ms(d["p99"]),
+                fmt_int(d["outliers"]),
+                fmt_int(d["repetitions"]),
+                fmt_percent(d["rep_spread"]),
+            ]
+        )
     headers, align = _config_headers()
     return Table(
-        "summary", "Every configuration: render time per frame [ms]",
+        "summary",
+        "Every configuration: render time per frame [ms]",
         [*headers, "n", "median", "95% CI", "mean", "std", "MAD", "p95", "p99", "outliers", "reps", "rep spread"],
-        rows, align + "rrlrrrrrrrr",
-        ["n = measured frames over all repetitions; CI = bootstrap 95% CI of the median (2000 resamples, seeded); "
-         "outliers = frames with |modified z| > 3.5 (flagged, kept); rep spread = coefficient of variation of the "
-         "per-repetition medians."],
+        rows,
+        align + "rrlrrrrrrrr",
+        [
+            "n = measured frames over all repetitions; CI = bootstrap 95% CI of the median (2000 resamples, seeded); "
+            "outliers = frames with |modified z| > 3.5 (flagged, kept); rep spread = coefficient of variation of the "
+            "per-repetition medians."
+        ],
     )
 
 
 def thesis_published(thesis_metrics: pd.DataFrame) -> Table:
     """The thesis' stated metrics against its own table, alone (no run needed)."""
-    rows = [[r.stage, r.scene, r.renderer, fmt_ms(r.ref_ms), fmt_ms(r.ms), fmt_int(r.p), fmt_fixed(r.speedup_reported),
-             fmt_fixed(r.speedup_recomputed), fmt_sig(r.karp_flatt_reported), fmt_sig(r.karp_flatt_recomputed)]
-            for r in thesis_metrics.itertuples(index=False)]
+    rows = [
+        [
+            r.stage,
+            r.scene,
+            r.renderer,
+            fmt_ms(r.ref_ms),
+            fmt_ms(r.ms),
+            fmt_int(r.p),
+            fmt_fixed(r.speedup_reported),
+            fmt_fixed(r.speedup_recomputed),
+            fmt_sig(r.karp_flatt_reported),
+            fmt_sig(r.karp_flatt_recomputed),
+        ]
+        for r in thesis_metrics.itertuples(index=False)
+    ]
     reference = names.reference_renderer()
     return Table(
-        "thesis-metrics-recomputed", "The thesis' metrics: stated vs recomputed from its own published times",
-        ["stage", "scene", "renderer", f"T {reference} ms", "T ms", "p", "S stated", "S recomputed", "e stated",
-         "e recomputed"],
-        rows, "lllrrrrrrr",
+        "thesis-metrics-recomputed",
+        "The thesis' metrics: stated vs recomputed from its own published times",
+        [
+            "stage",
+            "scene",
+            "renderer",
+            f"T {reference} ms",
+            "T ms",
+            "p",
+            "S stated",
+            "S recomputed",
+            "e stated",
+            "e recomputed",
+        ],
+        rows,
+        "lllrrrrrrr",
     )
 
 
@@ -377,16 +532,28 @@ def cost_vs_spheres(fits: pd.DataFrame) -> Table:
     rows = []
     for r in fits.itertuples(index=False):
         d = r._asdict()
-        rows.append([*_config_cells(d, leave_out=("scene",)), f"{d['spheres_min']}–{d['spheres_max']}",
-                     fmt_int(d["counts"]), fmt_ms(d["ms_min"]), fmt_ms(d["ms_max"]), fmt_fixed(d["exponent"], 2),
-                     fmt_fixed(d["r2"], 3)])
+        rows.append(
+            [
+                *_config_cells(d, leave_out=("scene",)),
+                f"{d['spheres_min']}–{d['spheres_max']}",
+                fmt_int(d["counts"]),
+                fmt_ms(d["ms_min"]),
+                fmt_ms(d["ms_max"]),
+                fmt_fixed(d["exponent"], 2),
+                fmt_fixed(d["r2"], 3),
+            ]
+        )
     headers, align = _config_headers(leave_out=("scene",))
     return Table(
-        "cost-vs-spheres", "Cost vs spheres: median render_ms = c N^k, the fitted exponent k",
+        "cost-vs-spheres",
+        "Cost vs spheres: median render_ms = c N^k, the fitted exponent k",
         [*headers, "spheres N", "counts", "ms at fewest", "ms at most", "k", "R²"],
-        rows, align + "lrrrrr",
-        ["k = least-squares slope of log(median render_ms) on log(N) over the configuration's scenes (R² of that "
-         "line). Brute force tests every sphere for every ray: expect k near 1. With a BVH a ray visits about "
-         "log N tree levels: expect k well under 1; the scene adds to it where a larger cluster covers more "
-         "pixels and reflects more rays."],
+        rows,
+        align + "lrrrrr",
+        [
+            "k = least-squares slope of log(median render_ms) on log(N) over the configuration's scenes (R² of that "
+            "line). Brute force tests every sphere for every ray: expect k near 1. With a BVH a ray visits about "
+            "log N tree levels: expect k well under 1; the scene adds to it where a larger cluster covers more "
+            "pixels and reflects more rays."
+        ],
     )

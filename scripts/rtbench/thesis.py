@@ -66,7 +66,9 @@ def table_layout(tables: pd.DataFrame) -> list[TableSpec]:
         stages = rows["stage"].unique()
         if len(stages) != 1:
             raise ThesisDataError(f"thesis table {number} mixes stages {list(stages)}")
-        specs.append(TableSpec(int(number), str(stages[0]), tuple(rows["renderer"].unique()), tuple(rows["scene"].unique())))
+        specs.append(
+            TableSpec(int(number), str(stages[0]), tuple(rows["renderer"].unique()), tuple(rows["scene"].unique()))
+        )
     return specs
 
 
@@ -92,13 +94,25 @@ def reported_vs_recomputed(tables: pd.DataFrame, reported: pd.DataFrame) -> pd.D
     speedups = recomputed_speedups(tables)
     wide = reported.pivot_table(index=["stage", "scene", "renderer", "p"], columns="metric", values="reported")
     wide = wide.reset_index().rename(columns={"speedup": "speedup_reported", "karp_flatt": "karp_flatt_reported"})
-    out = wide.merge(speedups[["stage", "scene", "renderer", "ref_ms", "ms", "speedup"]], on=["stage", "scene", "renderer"])
+    out = wide.merge(
+        speedups[["stage", "scene", "renderer", "ref_ms", "ms", "speedup"]], on=["stage", "scene", "renderer"]
+    )
     out = out.rename(columns={"speedup": "speedup_recomputed"})
     out["karp_flatt_recomputed"] = [metrics.karp_flatt(s, p) for s, p in zip(out["speedup_recomputed"], out["p"])]
     out["_stage"] = out["stage"].map(names.stage_order)
     out["_renderer"] = out["renderer"].map(names.renderer_order)
     out = out.sort_values(["_stage", "scene", "_renderer"]).drop(columns=["_stage", "_renderer"])
     return out.reset_index(drop=True)[
-        ["stage", "scene", "renderer", "p", "ref_ms", "ms", "speedup_reported", "speedup_recomputed",
-         "karp_flatt_reported", "karp_flatt_recomputed"]
+        [
+            "stage",
+            "scene",
+            "renderer",
+            "p",
+            "ref_ms",
+            "ms",
+            "speedup_reported",
+            "speedup_recomputed",
+            "karp_flatt_reported",
+            "karp_flatt_recomputed",
+        ]
     ]

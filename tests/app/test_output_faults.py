@@ -29,14 +29,30 @@ def command(raytracer, repo_root, out: Path, *, frames: int = 3, size=(32, 24), 
     """A small sequential run writing all three outputs into `out` (or, per
     output name, into `dirs[name]`)."""
     where = {name: (dirs or {}).get(name, out) / name for name in OUTPUTS}
-    return [str(raytracer), "--sequential", str(repo_root / SCENE), "--width", str(size[0]), "--height", str(size[1]),
-            "--warmup", "0", "--frames", str(frames), "--quiet", "--csv", str(where["run.csv"]),
-            "--meta", str(where["run.meta.json"]), "--save-frame", f"0:{where['frame.png']}"]
+    return [
+        str(raytracer),
+        "--sequential",
+        str(repo_root / SCENE),
+        "--width",
+        str(size[0]),
+        "--height",
+        str(size[1]),
+        "--warmup",
+        "0",
+        "--frames",
+        str(frames),
+        "--quiet",
+        "--csv",
+        str(where["run.csv"]),
+        "--meta",
+        str(where["run.meta.json"]),
+        "--save-frame",
+        f"0:{where['frame.png']}",
+    ]
 
 
 def outputs(out: Path) -> dict[str, bytes | None]:
-    return {name: (out / name).read_bytes() if (out / name).exists() else None
-            for name in OUTPUTS}
+    return {name: (out / name).read_bytes() if (out / name).exists() else None for name in OUTPUTS}
 
 
 def complete(name: str, data: bytes) -> bool:
@@ -78,10 +94,12 @@ def previous(raytracer, repo_root, tmp_path):
 
 
 # Nearly full leaves one page: the metadata (about 3 kB) would fit in it.
-@pytest.mark.parametrize(("target", "free"), [("run.csv", 0), ("run.csv", 6000), ("run.meta.json", 0),
-                                              ("frame.png", 0), ("frame.png", 6000)])
-def test_full_file_system_keeps_the_previous_output_and_names_enospc(raytracer, repo_root, tmp_path, tmpfs, previous,
-                                                                     free, target):
+@pytest.mark.parametrize(
+    ("target", "free"), [("run.csv", 0), ("run.csv", 6000), ("run.meta.json", 0), ("frame.png", 0), ("frame.png", 6000)]
+)
+def test_full_file_system_keeps_the_previous_output_and_names_enospc(
+    raytracer, repo_root, tmp_path, tmpfs, previous, free, target
+):
     """The output `target` goes to a tmpfs with `free` bytes left, the others
     elsewhere. Large enough not to fit (300 frames: a CSV of tens of kB; a
     256 x 192 frame: a PNG of tens of kB), so the nearly full case fails

@@ -76,4 +76,3 @@ def test_bad_parallel_options_exit_2(raytracer, repo_root, args):
     done = run(raytracer, *args, repo_root / "scenes/default.json", *SMALL)
     assert done.returncode == 2
     assert done.stderr.strip()
-

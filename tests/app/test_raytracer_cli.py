@@ -7,6 +7,7 @@ import os
 import subprocess
 
 import pytest
+
 from rtbench import schema
 
 SMALL = ["--width", "24", "--height", "16", "--warmup", "2", "--frames", "3", "--quiet"]
@@ -45,13 +46,30 @@ def test_csv_and_metadata_follow_the_schema(raytracer, repo_root, tmp_path):
 # Runs that fill every metadata object a run without a window can write:
 # scene, config, build (with build.nix), host, outputs (with saved frames),
 # accel_structure, device. The window object: tests/window.
-@pytest.mark.parametrize("args, filled", [(["--sequential", "--accel", "bvh", "--present", "none"], "accel_structure"),
-                                          (["--gpu"], "device")])
+@pytest.mark.parametrize(
+    "args, filled",
+    [(["--sequential", "--accel", "bvh", "--present", "none"], "accel_structure"), (["--gpu"], "device")],
+)
 def test_every_nested_metadata_key_is_in_the_schema_and_written(raytracer, repo_root, tmp_path, args, filled):
     env = {**os.environ, "RT_NIX": "1", "RT_NIXPKGS_REV": "0" * 40}
-    done = subprocess.run([str(a) for a in [raytracer, *args, repo_root / "scenes/random20.json", *SMALL,
-                                            "--csv", tmp_path / "run.csv", "--save-frame", f"1:{tmp_path / 'f1.png'}"]],
-                          capture_output=True, text=True, env=env)
+    done = subprocess.run(
+        [
+            str(a)
+            for a in [
+                raytracer,
+                *args,
+                repo_root / "scenes/random20.json",
+                *SMALL,
+                "--csv",
+                tmp_path / "run.csv",
+                "--save-frame",
+                f"1:{tmp_path / 'f1.png'}",
+            ]
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     assert done.returncode == 0, done.stderr
     meta = json.loads((tmp_path / "run.meta.json").read_text())
     assert meta[filled] is not None and meta["build"]["nix"] is not None and meta["outputs"]["frames"]
@@ -59,8 +77,17 @@ def test_every_nested_metadata_key_is_in_the_schema_and_written(raytracer, repo_
 
 
 def test_explicit_meta_path_and_saved_frames(raytracer, repo_root, tmp_path):
-    done = run(raytracer, repo_root / "scenes/default.json", *SMALL, "--meta", tmp_path / "m.json",
-               "--save-frame", f"0:{tmp_path / 'f0.png'}", "--save-frame", f"4:{tmp_path / 'f4.png'}")
+    done = run(
+        raytracer,
+        repo_root / "scenes/default.json",
+        *SMALL,
+        "--meta",
+        tmp_path / "m.json",
+        "--save-frame",
+        f"0:{tmp_path / 'f0.png'}",
+        "--save-frame",
+        f"4:{tmp_path / 'f4.png'}",
+    )
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "m.json").is_file()
     for name in ("f0.png", "f4.png"):

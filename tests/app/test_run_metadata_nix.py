@@ -14,8 +14,9 @@ def build_nix(raytracer, repo_root, tmp_path, **nix_env):
     env = {k: v for k, v in os.environ.items() if k not in ("RT_NIX", "RT_NIXPKGS_REV")}
     env.update(nix_env)
     csv = tmp_path / "run.csv"
-    done = subprocess.run([raytracer, repo_root / "scenes/default.json", *SMALL, "--csv", csv],
-                          capture_output=True, text=True, env=env)
+    done = subprocess.run(
+        [raytracer, repo_root / "scenes/default.json", *SMALL, "--csv", csv], capture_output=True, text=True, env=env
+    )
     assert done.returncode == 0, done.stderr
     return json.loads((tmp_path / "run.meta.json").read_text())["build"]["nix"]
 

@@ -39,7 +39,7 @@ def socket_inodes(pid: int) -> set[int]:
         except OSError:  # closed since the listing
             continue
         if target.startswith("socket:["):
-            inodes.add(int(target[len("socket:["):-1]))
+            inodes.add(int(target[len("socket:[") : -1]))
     return inodes
 
 
@@ -47,7 +47,7 @@ def decode_address(hex_address: str) -> str:
     """/proc/net writes an address as the hex of its 32-bit words in host
     order (little-endian here)."""
     raw = bytes.fromhex(hex_address)
-    words = b"".join(raw[i:i + 4][::-1] for i in range(0, len(raw), 4))
+    words = b"".join(raw[i : i + 4][::-1] for i in range(0, len(raw), 4))
     return socket.inet_ntop(socket.AF_INET if len(raw) == 4 else socket.AF_INET6, words)
 
 
@@ -64,8 +64,11 @@ def inet_sockets(pid: int) -> list[InetSocket]:
             if int(fields[9]) not in inodes:
                 continue
             address, port = fields[1].split(":")
-            found.append(InetSocket(table, decode_address(address), int(port, 16),
-                                    table.startswith("tcp") and fields[3] == TCP_LISTEN))
+            found.append(
+                InetSocket(
+                    table, decode_address(address), int(port, 16), table.startswith("tcp") and fields[3] == TCP_LISTEN
+                )
+            )
     return found
 
 
@@ -83,9 +86,11 @@ def wait_for_listener(proc: subprocess.Popen, timeout: float = 60) -> list[InetS
 
 
 def test_the_socket_reader_sees_a_listener_on_every_interface_and_udp():
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as tcp, \
-            socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as udp, \
-            socket.socket(socket.AF_INET6, socket.SOCK_STREAM) as tcp6:
+    with (
+        socket.socket(socket.AF_INET, socket.SOCK_STREAM) as tcp,
+        socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as udp,
+        socket.socket(socket.AF_INET6, socket.SOCK_STREAM) as tcp6,
+    ):
         tcp.bind(("0.0.0.0", 0))
         tcp.listen()
         udp.bind(("0.0.0.0", 0))
@@ -100,9 +105,26 @@ def test_the_socket_reader_sees_a_listener_on_every_interface_and_udp():
 
 def test_tracy_enabled_binary_listens_on_loopback_only_and_opens_no_udp_socket(repo_root, tracy_raytracer):
     # Enough frames to outlive the check; it is killed at the end.
-    proc = subprocess.Popen([tracy_raytracer, "--sequential", repo_root / "scenes/default.json", "--width", "32",
-                             "--height", "24", "--warmup", "0", "--frames", "1000000", "--quiet"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=repo_root)
+    proc = subprocess.Popen(
+        [
+            tracy_raytracer,
+            "--sequential",
+            repo_root / "scenes/default.json",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--warmup",
+            "0",
+            "--frames",
+            "1000000",
+            "--quiet",
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=repo_root,
+    )
     try:
         wait_for_listener(proc)
         time.sleep(0.5)  # let any later socket (a broadcast one) appear too

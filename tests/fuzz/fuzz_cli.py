@@ -33,7 +33,6 @@ import json
 import os
 import random
 import re
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -52,26 +51,54 @@ RUN_FLAGS = ["--width", "8", "--height", "6", "--warmup", "0", "--frames", "1", 
 CPU_RENDERERS = ["--sequential", "--simd", "--simd-only", "--tbb-only", "--embree"]
 SANITIZER_MARKS = ("Sanitizer", "runtime error:", "LeakSanitizer")
 
-SPECIAL_NUMBERS = ["1e39", "-1e39", "1e400", "-1e400", "1e-400", "1e-320", "5e-324", "0", "-0", "-0.0", "1e6",
-                   "-1e6", "1000000.0000001", "1e-6", "9.99e-7", "1e308", "1.7976931348623157e308",
-                   "123456789012345678901234567890", "-9223372036854775809", "18446744073709551616", "4294967296",
-                   "65", "64", "1", "0.5", "180", "179.99999999999", "1e-300", "2e-308"]
+SPECIAL_NUMBERS = [
+    "1e39",
+    "-1e39",
+    "1e400",
+    "-1e400",
+    "1e-400",
+    "1e-320",
+    "5e-324",
+    "0",
+    "-0",
+    "-0.0",
+    "1e6",
+    "-1e6",
+    "1000000.0000001",
+    "1e-6",
+    "9.99e-7",
+    "1e308",
+    "1.7976931348623157e308",
+    "123456789012345678901234567890",
+    "-9223372036854775809",
+    "18446744073709551616",
+    "4294967296",
+    "65",
+    "64",
+    "1",
+    "0.5",
+    "180",
+    "179.99999999999",
+    "1e-300",
+    "2e-308",
+]
 BAD_NUMBER_TEXT = ["NaN", "Infinity", "-", "1e", "1e+", ".5", "5.", "0x10", "01", "+1", "1_000", "1,5", "--1"]
 
 
 @dataclass
 class Case:
     category: str
-    data: bytes | None = None          # the scene file's bytes (None: a special path)
-    special: str | None = None         # empty, directory, dev-zero, dev-null, fifo, missing
+    data: bytes | None = None  # the scene file's bytes (None: a special path)
+    special: str | None = None  # empty, directory, dev-zero, dev-null, fifo, missing
     args: list[str] = field(default_factory=list)  # extra command-line arguments (the cli category)
-    scene_message: bool = True         # a rejected scene: stderr must be exactly one line
+    scene_message: bool = True  # a rejected scene: stderr must be exactly one line
 
 
 # --- scene mutations ------------------------------------------------------
 
+
 def seeds() -> list[bytes]:
-    files = sorted(CORPUS.glob("*.json")) + [REPO_ROOT / "scenes/default.json"]
+    files = [*sorted(CORPUS.glob("*.json")), REPO_ROOT / "scenes/default.json"]
     return [f.read_bytes() for f in files]
 
 
@@ -104,7 +131,7 @@ def _nodes(value, path=()):
     yield path, value
     children = value.items() if isinstance(value, dict) else enumerate(value) if isinstance(value, list) else ()
     for key, child in children:
-        yield from _nodes(child, path + (key,))
+        yield from _nodes(child, (*path, key))
 
 
 def _replace(doc, path, new):
@@ -132,8 +159,28 @@ def _is_json(data: bytes) -> bool:
 def wrong_types(rng: random.Random, _seed: bytes) -> bytes:
     doc = _parsed(rng)
     path, _ = rng.choice(list(_nodes(doc)))
-    new = rng.choice([None, True, False, 0, -1, 1.5, "", "1", "text", [], [1, 2, 3], [[1, 2, 3]], {}, {"a": 1},
-                      ["1", "2", "3"], [1, 2], [1, 2, 3, 4], [None, None, None]])
+    new = rng.choice(
+        [
+            None,
+            True,
+            False,
+            0,
+            -1,
+            1.5,
+            "",
+            "1",
+            "text",
+            [],
+            [1, 2, 3],
+            [[1, 2, 3]],
+            {},
+            {"a": 1},
+            ["1", "2", "3"],
+            [1, 2],
+            [1, 2, 3, 4],
+            [None, None, None],
+        ]
+    )
     return json.dumps(_replace(doc, path, new)).encode()
 
 
@@ -155,8 +202,14 @@ def huge_arrays(rng: random.Random, _seed: bytes) -> bytes:
     choice = rng.randrange(4)
     if choice == 0:  # many small spheres: legal, and must still render
         count = rng.choice([10_000, 100_000])
-        doc["spheres"] = [{"position": [rng.uniform(-50, 50), rng.uniform(-5, 5), rng.uniform(10, 60)],
-                           "radius": 0.01, "color": [0.5, 0.5, 0.5]} for _ in range(count)]
+        doc["spheres"] = [
+            {
+                "position": [rng.uniform(-50, 50), rng.uniform(-5, 5), rng.uniform(10, 60)],
+                "radius": 0.01,
+                "color": [0.5, 0.5, 0.5],
+            }
+            for _ in range(count)
+        ]
     elif choice == 1:  # a vec3 with a million elements
         path, _ = rng.choice([(p, v) for p, v in _nodes(doc) if isinstance(v, list)])
         doc = _replace(doc, path, [0.5] * 1_000_000)
@@ -175,7 +228,7 @@ def duplicate_keys(rng: random.Random, seed: bytes) -> bytes:
         return seed
     m = rng.choice(keys)
     value = rng.choice([b"1", b"-1", b"1e39", b'"x"', b"[0, 0, 0]", b"{}", b"null"])
-    return seed[: m.start()] + m.group(0) + value + b", " + seed[m.start():]
+    return seed[: m.start()] + m.group(0) + value + b", " + seed[m.start() :]
 
 
 def encodings(rng: random.Random, seed: bytes) -> bytes:
@@ -211,28 +264,89 @@ SPECIALS = ["empty", "directory", "dev-zero", "dev-null", "fifo", "fifo-garbage"
 
 # --- command lines ----------------------------------------------------------
 
+
 def cli_value(rng: random.Random, kind: str) -> str:
     pools = {
         "count": ["0", "-1", "1", "2", "7", "16", "99999999999999999999", "1e3", "", " 3", "3x", "0x10", "+4"],
         "size": ["0", "-1", "1", "3", "8", "16384", "16385", "99999999999999999999", "", "8.5", "abc"],
         "frames": ["0", "1", "2", "1000001", "-5", "", "x"],
-        "name": ["", "x", "none", "all", "bvh", "two-pass", "single-pass", "original", "optimized", "rows", "tiles",
-                 "native", "4", "8", "16", "3", "bounce", "bounce,sphere", "bounce,,sphere", ",", "upload", "window",
-                 "\u00e9", "a" * 5000],
-        "save": ["0:{out}/f.png", "1:{out}/f.png", "-1:{out}/f.png", ":{out}/f.png", "0:", "0", "x:y.png",
-                 "99999999999999999999:{out}/f.png", "0:{out}/missing/f.png", "0:{out}", "0:{out}/f.png:extra"],
+        "name": [
+            "",
+            "x",
+            "none",
+            "all",
+            "bvh",
+            "two-pass",
+            "single-pass",
+            "original",
+            "optimized",
+            "rows",
+            "tiles",
+            "native",
+            "4",
+            "8",
+            "16",
+            "3",
+            "bounce",
+            "bounce,sphere",
+            "bounce,,sphere",
+            ",",
+            "upload",
+            "window",
+            "\u00e9",
+            "a" * 5000,
+        ],
+        "save": [
+            "0:{out}/f.png",
+            "1:{out}/f.png",
+            "-1:{out}/f.png",
+            ":{out}/f.png",
+            "0:",
+            "0",
+            "x:y.png",
+            "99999999999999999999:{out}/f.png",
+            "0:{out}/missing/f.png",
+            "0:{out}",
+            "0:{out}/f.png:extra",
+        ],
         "path": ["{out}/run.csv", "{out}/missing/run.csv", "{out}", "", "/dev/null", "{out}/sub/../run.csv"],
     }
     return rng.choice(pools[kind])
 
 
-CLI_OPTIONS = {"--width": "size", "--height": "size", "--frames": "frames", "--warmup": "frames",
-               "--threads": "count", "--grain": "count", "--lanes": "name", "--partition": "name",
-               "--algorithm": "name", "--early-exit": "name", "--stage": "name", "--accel": "name",
-               "--present": "name", "--save-frame": "save", "--csv": "path", "--meta": "path",
-               "--device": "name"}
-CLI_FLAGS = CPU_RENDERERS + ["--quiet", "--version", "--help", "--vk-validation", "--tracy-wait", "--nonsense",
-                             "-x", "--", "-", "--width=8", "--frames=1"]
+CLI_OPTIONS = {
+    "--width": "size",
+    "--height": "size",
+    "--frames": "frames",
+    "--warmup": "frames",
+    "--threads": "count",
+    "--grain": "count",
+    "--lanes": "name",
+    "--partition": "name",
+    "--algorithm": "name",
+    "--early-exit": "name",
+    "--stage": "name",
+    "--accel": "name",
+    "--present": "name",
+    "--save-frame": "save",
+    "--csv": "path",
+    "--meta": "path",
+    "--device": "name",
+}
+CLI_FLAGS = [
+    *CPU_RENDERERS,
+    "--quiet",
+    "--version",
+    "--help",
+    "--vk-validation",
+    "--tracy-wait",
+    "--nonsense",
+    "-x",
+    "--",
+    "-",
+    "--width=8",
+    "--frames=1",
+]
 
 
 def command_line(rng: random.Random) -> list[str]:
@@ -264,6 +378,7 @@ def make_case(rng: random.Random) -> Case:
 
 
 # --- running and judging ----------------------------------------------------
+
 
 @dataclass
 class Verdict:
@@ -369,10 +484,24 @@ def run_case(binary: Path, case: Case, timeout: float) -> Verdict:
                 argv += ["--present", "none"]
         else:
             renderer = "--sequential"
-            argv = [str(binary), renderer, str(scene), *RUN_FLAGS, "--csv", str(out / "run.csv"),
-                    "--save-frame", f"0:{out / 'frame.png'}"]
-        proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL,
-                                cwd=work, env={**os.environ, "ASAN_OPTIONS": "detect_leaks=1:abort_on_error=0"})
+            argv = [
+                str(binary),
+                renderer,
+                str(scene),
+                *RUN_FLAGS,
+                "--csv",
+                str(out / "run.csv"),
+                "--save-frame",
+                f"0:{out / 'frame.png'}",
+            ]
+        proc = subprocess.Popen(
+            argv,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            stdin=subprocess.DEVNULL,
+            cwd=work,
+            env={**os.environ, "ASAN_OPTIONS": "detect_leaks=1:abort_on_error=0"},
+        )
         feeder = None
         if case.special in ("fifo", "fifo-garbage"):
             feeder = threading.Thread(target=feed_fifo, args=(scene, case.data, proc), daemon=True)
@@ -394,12 +523,14 @@ def keep_failure(keep: Path, index: int, case: Case, verdict: Verdict) -> None:
     stem = keep / f"{verdict.failure}-{case.category}-{index}"
     if case.data is not None:
         stem.with_suffix(".json").write_bytes(case.data)
-    stem.with_suffix(".txt").write_text(json.dumps({"special": case.special, "args": case.args,
-                                                    "exit": verdict.exit_code, "detail": verdict.detail}, indent=2))
+    stem.with_suffix(".txt").write_text(
+        json.dumps(
+            {"special": case.special, "args": case.args, "exit": verdict.exit_code, "detail": verdict.detail}, indent=2
+        )
+    )
 
 
-def campaign(binary: Path, cases: int, seconds: float, seed: int, jobs: int, timeout: float,
-             keep: Path | None) -> dict:
+def campaign(binary: Path, cases: int, seconds: float, seed: int, jobs: int, timeout: float, keep: Path | None) -> dict:
     deadline = time.monotonic() + seconds
     summary: dict[str, dict] = {}
     lock = threading.Lock()

@@ -39,8 +39,9 @@ def test_regression_input_now_passes(raytracer, repo_root, path):
     if spec["scene_from"]:
         data = (repo_root / spec["scene_from"]).read_bytes()
     category = "cli" if spec["args"] else "regression"
-    case = fuzz_cli.Case(category, data=data, special=spec["special"], args=spec["args"],
-                         scene_message=not spec["args"])
+    case = fuzz_cli.Case(
+        category, data=data, special=spec["special"], args=spec["args"], scene_message=not spec["args"]
+    )
     verdict = fuzz_cli.run_case(raytracer.resolve(), case, timeout=120)
     assert verdict.failure is None, f"{spec['found']}: {verdict.failure}: {verdict.detail}"
     assert verdict.exit_code == spec["exit"], verdict
@@ -49,8 +50,9 @@ def test_regression_input_now_passes(raytracer, repo_root, path):
 def test_mutation_driver_finds_nothing(raytracer, tmp_path):
     seconds = float(os.environ.get("RT_FUZZ_SECONDS", "45"))
     seed = int(os.environ.get("RT_FUZZ_SEED", "14"))
-    summary = fuzz_cli.campaign(raytracer.resolve(), cases=100_000, seconds=seconds, seed=seed, jobs=2,
-                                timeout=120, keep=tmp_path / "failures")
+    summary = fuzz_cli.campaign(
+        raytracer.resolve(), cases=100_000, seconds=seconds, seed=seed, jobs=2, timeout=120, keep=tmp_path / "failures"
+    )
     print(json.dumps(summary, indent=1, sort_keys=True))
     assert sum(row["cases"] for row in summary.values()) > 0
     failed = {name: row["failures"] for name, row in summary.items() if row["failures"]}
@@ -65,8 +67,10 @@ def build_libfuzzer_target(repo_root: Path) -> Path:
     if clang is None:
         pytest.skip("no clang++: the libFuzzer target needs clang (scripts/setup-debian installs it)")
     build = repo_root / "build" / "fuzz-libfuzzer"
-    for cmd in (["cmake", "-S", str(HERE), "-B", str(build), "-G", "Ninja", f"-DCMAKE_CXX_COMPILER={clang}"],
-                ["cmake", "--build", str(build)]):
+    for cmd in (
+        ["cmake", "-S", str(HERE), "-B", str(build), "-G", "Ninja", f"-DCMAKE_CXX_COMPILER={clang}"],
+        ["cmake", "--build", str(build)],
+    ):
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
         assert done.returncode == 0, done.stdout[-4000:] + done.stderr[-4000:]
     return build / "scene_loader_fuzzer"
@@ -77,10 +81,22 @@ def test_libfuzzer_scene_loader(repo_root, tmp_path):
     seconds = int(os.environ.get("RT_LIBFUZZER_SECONDS", "30"))
     corpus = tmp_path / "corpus"  # new inputs go here; the committed corpus stays as it is
     corpus.mkdir()
-    done = subprocess.run([str(fuzzer), f"-max_total_time={seconds}", "-timeout=10", "-rss_limit_mb=2048",
-                           f"-dict={HERE / 'scene.dict'}", f"-artifact_prefix={tmp_path}/", "-print_final_stats=1",
-                           str(corpus), str(HERE / "corpus")],
-                          capture_output=True, text=True, timeout=seconds + 120)
+    done = subprocess.run(
+        [
+            str(fuzzer),
+            f"-max_total_time={seconds}",
+            "-timeout=10",
+            "-rss_limit_mb=2048",
+            f"-dict={HERE / 'scene.dict'}",
+            f"-artifact_prefix={tmp_path}/",
+            "-print_final_stats=1",
+            str(corpus),
+            str(HERE / "corpus"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=seconds + 120,
+    )
     stats = [line for line in done.stderr.splitlines() if line.startswith("stat::") or line.startswith("Done")]
     print("\n".join(stats))
     assert done.returncode == 0, done.stderr[-6000:]

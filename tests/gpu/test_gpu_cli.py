@@ -17,12 +17,14 @@ EXIT_NO_DEVICE = 3
 NO_DRIVER = {"VK_DRIVER_FILES": "/nonexistent.json", "VK_ICD_FILENAMES": "/nonexistent.json"}
 
 DEVICE_LINE = re.compile(
-    r"^  \d+[* ]  .+  type=(discrete|integrated|virtual|cpu|other)  driver=.+  api=\d+\.\d+\.\d+", re.M)
+    r"^  \d+[* ]  .+  type=(discrete|integrated|virtual|cpu|other)  driver=.+  api=\d+\.\d+\.\d+", re.M
+)
 
 
 def run(raytracer, *args, env=None):
-    return subprocess.run([raytracer, *map(str, args)], capture_output=True, text=True,
-                          env={**os.environ, **(env or {})})
+    return subprocess.run(
+        [raytracer, *map(str, args)], capture_output=True, text=True, env={**os.environ, **(env or {})}
+    )
 
 
 def read_csv(path):
@@ -46,8 +48,9 @@ def test_list_devices_without_a_driver_exits_3(raytracer):
 
 
 def test_gpu_without_a_driver_exits_3_and_says_what_it_found(raytracer, repo_root, tmp_path):
-    done = run(raytracer, "--gpu", repo_root / "scenes/default.json", *SMALL, "--csv", tmp_path / "run.csv",
-               env=NO_DRIVER)
+    done = run(
+        raytracer, "--gpu", repo_root / "scenes/default.json", *SMALL, "--csv", tmp_path / "run.csv", env=NO_DRIVER
+    )
     assert done.returncode == EXIT_NO_DEVICE, done.stderr
     assert "no Vulkan device" in done.stderr
     assert "VK_DRIVER_FILES=/nonexistent.json" in done.stderr, "names the loader setting it saw"
@@ -56,8 +59,22 @@ def test_gpu_without_a_driver_exits_3_and_says_what_it_found(raytracer, repo_roo
 
 def test_cpu_renderer_without_a_driver_presents_nowhere(raytracer, repo_root, tmp_path):
     csv_path = tmp_path / "run.csv"
-    done = run(raytracer, "--sequential", repo_root / "scenes/default.json", "--width", "48", "--height", "32",
-               "--warmup", "1", "--frames", "2", "--csv", csv_path, env=NO_DRIVER)
+    done = run(
+        raytracer,
+        "--sequential",
+        repo_root / "scenes/default.json",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--warmup",
+        "1",
+        "--frames",
+        "2",
+        "--csv",
+        csv_path,
+        env=NO_DRIVER,
+    )
     assert done.returncode == 0, done.stderr
     assert "note: no Vulkan device" in done.stderr
     rows = read_csv(csv_path)
@@ -70,8 +87,9 @@ def test_cpu_renderer_without_a_driver_presents_nowhere(raytracer, repo_root, tm
 
 
 def test_explicit_upload_without_a_driver_exits_3(raytracer, repo_root):
-    done = run(raytracer, "--sequential", repo_root / "scenes/default.json", *SMALL, "--present", "upload",
-               env=NO_DRIVER)
+    done = run(
+        raytracer, "--sequential", repo_root / "scenes/default.json", *SMALL, "--present", "upload", env=NO_DRIVER
+    )
     assert done.returncode == EXIT_NO_DEVICE, done.stderr
 
 
@@ -90,8 +108,19 @@ def test_bad_present_mode_is_bad_input(raytracer):
 def test_validated_gpu_run_records_gpu_time_and_the_device(raytracer, repo_root, tmp_path, present):
     csv_path = tmp_path / "run.csv"
     frame = tmp_path / "frame2.png"
-    done = run(raytracer, "--gpu", repo_root / "scenes/random20.json", *SMALL, "--vk-validation",
-               "--present", present, "--csv", csv_path, "--save-frame", f"2:{frame}")
+    done = run(
+        raytracer,
+        "--gpu",
+        repo_root / "scenes/random20.json",
+        *SMALL,
+        "--vk-validation",
+        "--present",
+        present,
+        "--csv",
+        csv_path,
+        "--save-frame",
+        f"2:{frame}",
+    )
     assert done.returncode == 0, done.stderr
     assert "vulkan error" not in done.stderr and "vulkan warning" not in done.stderr, done.stderr
     rows = read_csv(csv_path)
@@ -111,8 +140,17 @@ def test_validated_gpu_run_records_gpu_time_and_the_device(raytracer, repo_root,
 
 def test_gpu_bvh_run_records_its_structure(raytracer, repo_root, tmp_path):
     csv_path = tmp_path / "run.csv"
-    done = run(raytracer, "--gpu", repo_root / "scenes/random20.json", *SMALL, "--vk-validation", "--accel", "bvh",
-               "--csv", csv_path)
+    done = run(
+        raytracer,
+        "--gpu",
+        repo_root / "scenes/random20.json",
+        *SMALL,
+        "--vk-validation",
+        "--accel",
+        "bvh",
+        "--csv",
+        csv_path,
+    )
     assert done.returncode == 0, done.stderr
     assert {r["accel"] for r in read_csv(csv_path)} == {"bvh"}
     structure = json.loads((tmp_path / "run.meta.json").read_text())["accel_structure"]
@@ -121,11 +159,11 @@ def test_gpu_bvh_run_records_its_structure(raytracer, repo_root, tmp_path):
 
 def test_cpu_renderer_uploads_by_default_when_a_device_opens(raytracer, repo_root, tmp_path):
     csv_path = tmp_path / "run.csv"
-    done = run(raytracer, "--sequential", repo_root / "scenes/default.json", *SMALL, "--vk-validation",
-               "--csv", csv_path)
+    done = run(
+        raytracer, "--sequential", repo_root / "scenes/default.json", *SMALL, "--vk-validation", "--csv", csv_path
+    )
     assert done.returncode == 0, done.stderr
     rows = read_csv(csv_path)
     assert {r["present"] for r in rows} == {"upload"}
     assert all(r["gpu_ms"] == "" for r in rows)
     assert json.loads((tmp_path / "run.meta.json").read_text())["config"]["present_reason"].startswith("default")
-

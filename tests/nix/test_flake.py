@@ -66,8 +66,12 @@ def nix(tmp_path_factory) -> Nix:
 def flake(repo_root: Path, tmp_path_factory) -> Path:
     """The repository's files (tracked, or new and not ignored) as committed in a fresh git repository:
     flakes only see what git tracks, and this works the same in a CI clone and in a worktree."""
-    listed = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
-                            cwd=repo_root, capture_output=True, check=False)
+    listed = subprocess.run(
+        ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+        cwd=repo_root,
+        capture_output=True,
+        check=False,
+    )
     if listed.returncode != 0:
         pytest.skip(f"not a git checkout, and flakes see only what git tracks: {listed.stderr.decode().strip()}")
     dest = tmp_path_factory.mktemp("flake")
@@ -114,7 +118,9 @@ def test_flake_and_stub_parse(nix, repo_root):
 
 
 def test_nixpkgs_is_pinned_by_revision(nix, repo_root):
-    inputs = json.loads(nix.instantiate("--eval", "--strict", "--json", "-E", f"(import {repo_root / 'flake.nix'}).inputs"))
+    inputs = json.loads(
+        nix.instantiate("--eval", "--strict", "--json", "-E", f"(import {repo_root / 'flake.nix'}).inputs")
+    )
     assert inputs == {"nixpkgs": {"url": f"github:NixOS/nixpkgs/{NIXPKGS_REV}"}}
 
 
@@ -141,7 +147,9 @@ def all_systems(nix: Nix, command: str) -> list[str]:
 
 
 def test_flake_show_lists_the_outputs_for_both_systems(nix, flake):
-    shown = json.loads(nix.nix("flake", "show", "--json", *all_systems(nix, "show"), *flake_args(flake), f"git+file://{flake}"))
+    shown = json.loads(
+        nix.nix("flake", "show", "--json", *all_systems(nix, "show"), *flake_args(flake), f"git+file://{flake}")
+    )
     for system in SYSTEMS:
         assert {name: app["type"] for name, app in shown["apps"][system].items()} == {name: "app" for name in APPS}
         assert shown["packages"][system]["default"]["type"] == "derivation"
@@ -156,9 +164,13 @@ def test_flake_check_evaluates_without_building(nix, flake):
 
 def test_apps_run_the_package_on_lavapipe_and_record_nix(nix, flake):
     programs = evaluate(nix, flake, "apps", "builtins.mapAttrs (s: builtins.mapAttrs (n: a: a.program))")
-    wrappers = evaluate(nix, flake, "checks",
-                        "builtins.mapAttrs (s: c: builtins.mapAttrs (n: w: { out = w.outPath; inherit (w) text runtimeEnv; })"
-                        " { inherit (c) app-default app-bench app-report; })")
+    wrappers = evaluate(
+        nix,
+        flake,
+        "checks",
+        "builtins.mapAttrs (s: c: builtins.mapAttrs (n: w: { out = w.outPath; inherit (w) text runtimeEnv; })"
+        " { inherit (c) app-default app-bench app-report; })",
+    )
     packages = evaluate(nix, flake, "packages", "builtins.mapAttrs (s: p: p.default.outPath)")
     for system, arch in SYSTEMS.items():
         for app, exe in APPS.items():
@@ -172,17 +184,21 @@ def test_apps_run_the_package_on_lavapipe_and_record_nix(nix, flake):
             assert env["RT_BINARY"] == f"{packages[system]}/bin/raytracer"
             assert env["RT_BINARY_PAPER_O0"].endswith("-raytracer-paper-o0-0.1.0/bin/raytracer")
             assert env["RT_PYTHON"].endswith("-python3-3.13-env/bin/python3")
-        assert f"{packages[system]}/share/raytracer/scripts/bench \"$@\"" in wrappers[system]["app-bench"]["text"]
-        assert f"{packages[system]}/share/raytracer/scripts/report.py \"$@\"" in wrappers[system]["app-report"]["text"]
-        assert f"{packages[system]}/bin/raytracer \"$@\"" in wrappers[system]["app-default"]["text"]
+        assert f'{packages[system]}/share/raytracer/scripts/bench "$@"' in wrappers[system]["app-bench"]["text"]
+        assert f'{packages[system]}/share/raytracer/scripts/report.py "$@"' in wrappers[system]["app-report"]["text"]
+        assert f'{packages[system]}/bin/raytracer "$@"' in wrappers[system]["app-default"]["text"]
 
 
 def test_package_builds_the_profile_preset_with_nixpkgs_tracy_and_tests_on_lavapipe(nix, flake):
-    packages = evaluate(nix, flake, "packages",
-                        "builtins.mapAttrs (s: p: { inherit (p.default) doCheck configurePhase checkPhase postFixup"
-                        " buildInputs nativeCheckInputs"
-                        " VK_DRIVER_FILES VK_ICD_FILENAMES VK_LOADER_LAYERS_DISABLE VK_ADD_LAYER_PATH;"
-                        " commit = p.default.RT_GIT_COMMIT or null; })")
+    packages = evaluate(
+        nix,
+        flake,
+        "packages",
+        "builtins.mapAttrs (s: p: { inherit (p.default) doCheck configurePhase checkPhase postFixup"
+        " buildInputs nativeCheckInputs"
+        " VK_DRIVER_FILES VK_ICD_FILENAMES VK_LOADER_LAYERS_DISABLE VK_ADD_LAYER_PATH;"
+        " commit = p.default.RT_GIT_COMMIT or null; })",
+    )
     for system, arch in SYSTEMS.items():
         package = packages[system]
         assert package["doCheck"] is True
@@ -202,16 +218,21 @@ def test_package_builds_the_profile_preset_with_nixpkgs_tracy_and_tests_on_lavap
 
 
 def test_dev_shell_has_the_tools_and_lavapipe(nix, flake):
-    shells = evaluate(nix, flake, "devShells",
-                      "builtins.mapAttrs (s: d: { inherit (d.default) shellHook RT_TRACY_CLIENT_DIR RT_PYTHON RT_NIX;"
-                      " packages = map (p: p.name) d.default.packages; })")
+    shells = evaluate(
+        nix,
+        flake,
+        "devShells",
+        "builtins.mapAttrs (s: d: { inherit (d.default) shellHook RT_TRACY_CLIENT_DIR RT_PYTHON RT_NIX;"
+        " packages = map (p: p.name) d.default.packages; })",
+    )
     for system, arch in SYSTEMS.items():
         shell = shells[system]
         assert_lavapipe(shell_exports(shell["shellHook"]), arch)
         assert shell["RT_TRACY_CLIENT_DIR"].endswith("-source/public")
         assert shell["RT_NIX"] == "1"
-        assert {"tracy-0.11.1", "vulkan-tools", "vulkan-validation-layers", "clang-tools-19",
-                "ruff"} <= set(shell["packages"])
+        assert {"tracy-0.11.1", "vulkan-tools", "vulkan-validation-layers", "clang-tools-19", "ruff"} <= set(
+            shell["packages"]
+        )
 
 
 def test_the_package_and_its_python_have_every_dependency_of_the_list(nix, flake, repo_root):
@@ -221,9 +242,13 @@ def test_the_package_and_its_python_have_every_dependency_of_the_list(nix, flake
     import tomllib
 
     deps = tomllib.loads((repo_root / "dependencies.toml").read_text()).values()
-    package = evaluate(nix, flake, "packages.x86_64-linux.default",
-                       "p: { inputs = map (d: d.name) (p.buildInputs ++ p.nativeBuildInputs ++ p.nativeCheckInputs);"
-                       " python = map (d: d.name) (builtins.head (builtins.filter (d: d ? packages) p.buildInputs)).packages; }")
+    package = evaluate(
+        nix,
+        flake,
+        "packages.x86_64-linux.default",
+        "p: { inputs = map (d: d.name) (p.buildInputs ++ p.nativeBuildInputs ++ p.nativeCheckInputs);"
+        " python = map (d: d.name) (builtins.head (builtins.filter (d: d ? packages) p.buildInputs)).packages; }",
+    )
     for dep in deps:
         for attr in dep["nix"].split():
             name = attr.rpartition(".")[2]

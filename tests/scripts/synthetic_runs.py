@@ -36,11 +36,20 @@ class SyntheticConfig:
         stage = names.STAGES[self.stage]
         exits = names.EARLY_EXIT_SEPARATOR.join(stage["early_exits"]) or names.NO_EARLY_EXIT
         takes_threads = names.accepts(self.renderer, names.THREADS)
-        return {names.SCENE: self.scene, names.RENDERER: self.renderer, names.THREADS: self.threads,
-                names.LANES: self.lanes, names.SIMD_TARGET: "AVX3" if self.lanes > 1 else "",
-                names.GRAIN: 1 if takes_threads else 0, names.PARTITION: "rows" if takes_threads else "",
-                names.ALGORITHM: stage["algorithm"], names.EARLY_EXIT: exits, names.ACCEL: names.BRUTE_FORCE,
-                names.WIDTH: self.width, names.HEIGHT: self.height}
+        return {
+            names.SCENE: self.scene,
+            names.RENDERER: self.renderer,
+            names.THREADS: self.threads,
+            names.LANES: self.lanes,
+            names.SIMD_TARGET: "AVX3" if self.lanes > 1 else "",
+            names.GRAIN: 1 if takes_threads else 0,
+            names.PARTITION: "rows" if takes_threads else "",
+            names.ALGORITHM: stage["algorithm"],
+            names.EARLY_EXIT: exits,
+            names.ACCEL: names.BRUTE_FORCE,
+            names.WIDTH: self.width,
+            names.HEIGHT: self.height,
+        }
 
 
 @dataclass
@@ -55,15 +64,24 @@ class Environment:
     libraries: dict = field(default_factory=lambda: {"onetbb": "2021.8.0"})
 
 
-def csv_text(run_id: str, config: SyntheticConfig, render_ms: list[float], warmup: int, device: str,
-             present_ms: float = 0.0) -> str:
+def csv_text(
+    run_id: str, config: SyntheticConfig, render_ms: list[float], warmup: int, device: str, present_ms: float = 0.0
+) -> str:
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(names.CSV_COLUMNS)
     for frame, ms in enumerate(render_ms):
-        values = {**config.columns(), names.RUN_ID: run_id, names.FRAME: frame, names.WARMUP: int(frame < warmup),
-                  names.RENDER_MS: repr(float(ms)), "update_ms": "0", "present_ms": repr(float(present_ms)), "present": "none",
-                  names.DEVICE: device}
+        values = {
+            **config.columns(),
+            names.RUN_ID: run_id,
+            names.FRAME: frame,
+            names.WARMUP: int(frame < warmup),
+            names.RENDER_MS: repr(float(ms)),
+            "update_ms": "0",
+            "present_ms": repr(float(present_ms)),
+            "present": "none",
+            names.DEVICE: device,
+        }
         writer.writerow([values.get(c, "" if names.COLUMN_TYPES[c] != "int" else 0) for c in names.CSV_COLUMNS])
     return out.getvalue()
 
@@ -71,22 +89,54 @@ def csv_text(run_id: str, config: SyntheticConfig, render_ms: list[float], warmu
 def metadata(run_id: str, config: SyntheticConfig, warmup: int, measured: int, env: Environment) -> dict:
     columns = config.columns()
     return {
-        "schema_version": names.SCHEMA_VERSION, "run_id": run_id, "command_line": ["raytracer", "(synthetic)"],
+        "schema_version": names.SCHEMA_VERSION,
+        "run_id": run_id,
+        "command_line": ["raytracer", "(synthetic)"],
         "scene": {"name": config.scene, "path": f"scenes/{config.scene}.json", "sha256": "0" * 64, "spheres": 20},
-        "config": {**{k: columns[k] for k in (names.RENDERER, names.THREADS, names.LANES, names.SIMD_TARGET,
-                                               names.GRAIN, names.PARTITION, names.ALGORITHM, names.EARLY_EXIT,
-                                               names.ACCEL, names.WIDTH, names.HEIGHT)},
-                   "warmup_frames": warmup, "measured_frames": measured, "present": "none"},
-        "build": {"version": "0.0.0", "git_commit": env.git_commit, "git_dirty": False, "build_type": "Release",
-                  "compiler": env.compiler, "compiler_flags": "-O3", "nix": None},
+        "config": {
+            **{
+                k: columns[k]
+                for k in (
+                    names.RENDERER,
+                    names.THREADS,
+                    names.LANES,
+                    names.SIMD_TARGET,
+                    names.GRAIN,
+                    names.PARTITION,
+                    names.ALGORITHM,
+                    names.EARLY_EXIT,
+                    names.ACCEL,
+                    names.WIDTH,
+                    names.HEIGHT,
+                )
+            },
+            "warmup_frames": warmup,
+            "measured_frames": measured,
+            "present": "none",
+        },
+        "build": {
+            "version": "0.0.0",
+            "git_commit": env.git_commit,
+            "git_dirty": False,
+            "build_type": "Release",
+            "compiler": env.compiler,
+            "compiler_flags": "-O3",
+            "nix": None,
+        },
         "host": {"cpu_model": env.cpu_model, "logical_cores": env.logical_cores, "os": "Debian 12", "kernel": "Linux"},
-        "libraries": env.libraries, "accel_structure": None,
+        "libraries": env.libraries,
+        "accel_structure": None,
         "device": {"name": env.device, "driver_name": "llvmpipe", "driver_version": "22.3.6"},
     }
 
 
-def write_run_dir(out: Path, runs: dict[SyntheticConfig, list[list[float]]], warmup: int = 1,
-                  env: Environment | None = None, present_ms: float = 0.0) -> Path:
+def write_run_dir(
+    out: Path,
+    runs: dict[SyntheticConfig, list[list[float]]],
+    warmup: int = 1,
+    env: Environment | None = None,
+    present_ms: float = 0.0,
+) -> Path:
     """A run directory: for each configuration one run per list of render
     times (the first `warmup` of each are warm-up frames), every frame's
     Present phase taking `present_ms`."""
@@ -98,11 +148,27 @@ def write_run_dir(out: Path, runs: dict[SyntheticConfig, list[list[float]]], war
             run_id = f"20260101T00{index // 60:02d}{index % 60:02d}Z-{index:06x}"
             stem = f"{load.FRAMES_DIR}/{config.id}-r{rep}"
             atomic.write_text(out / f"{stem}.csv", csv_text(run_id, config, times, warmup, env.device, present_ms))
-            atomic.write_json(out / f"{stem}{load.META_SUFFIX}",
-                              metadata(run_id, config, warmup, len(times) - warmup, env))
-            entries.append({"config": config.id, "repetition": rep, "renderer": config.renderer,
-                            "csv": f"{stem}.csv", "meta": f"{stem}{load.META_SUFFIX}", "status": RunStatus.OK})
-    atomic.write_json(out / load.MANIFEST, {"format": 1, "status": ManifestStatus.COMPLETE,
-                                            "profile": {"name": "synthetic"},
-                                            "host": {"cpu_governors": ["performance"]}, "runs": entries})
+            atomic.write_json(
+                out / f"{stem}{load.META_SUFFIX}", metadata(run_id, config, warmup, len(times) - warmup, env)
+            )
+            entries.append(
+                {
+                    "config": config.id,
+                    "repetition": rep,
+                    "renderer": config.renderer,
+                    "csv": f"{stem}.csv",
+                    "meta": f"{stem}{load.META_SUFFIX}",
+                    "status": RunStatus.OK,
+                }
+            )
+    atomic.write_json(
+        out / load.MANIFEST,
+        {
+            "format": 1,
+            "status": ManifestStatus.COMPLETE,
+            "profile": {"name": "synthetic"},
+            "host": {"cpu_governors": ["performance"]},
+            "runs": entries,
+        },
+    )
     return out

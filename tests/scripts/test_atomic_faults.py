@@ -9,9 +9,9 @@ from __future__ import annotations
 import errno
 import os
 import subprocess
-from pathlib import Path
 
 import pytest
+
 from rtbench import atomic
 
 

@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 import pytest
+
 from rtbench import load
 
 PROFILE = """
@@ -40,13 +41,23 @@ def environment():
 
 
 def start_bench(repo_root, *args):
-    return subprocess.Popen([repo_root / "scripts/bench", "--plain", *map(str, args)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=environment())
+    return subprocess.Popen(
+        [repo_root / "scripts/bench", "--plain", *map(str, args)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=environment(),
+    )
 
 
 def bench(repo_root, *args):
-    return subprocess.run([repo_root / "scripts/bench", "--plain", *map(str, args)], capture_output=True, text=True,
-                          env=environment(), timeout=300)
+    return subprocess.run(
+        [repo_root / "scripts/bench", "--plain", *map(str, args)],
+        capture_output=True,
+        text=True,
+        env=environment(),
+        timeout=300,
+    )
 
 
 def write_profile(tmp_path):
@@ -99,7 +110,7 @@ def stop_a_later_run(run_dir: Path) -> int:
             os.kill(pid, signal.SIGSTOP)
         except ProcessLookupError:
             continue  # it finished in between: take the next
-        state = wait_for(lambda: _state(pid), "the stop to take effect")
+        state = wait_for(lambda pid=pid: _state(pid), "the stop to take effect")
         if state == "T":
             return pid
         assert state == "Z", state  # finished just before the stop: take the next
@@ -117,8 +128,9 @@ def interrupt(repo_root, raytracer, tmp_path, signum):
     """Starts a run, signals the runner while a later configuration runs;
     (the runner's result, its run directory, the stopped raytracer's pid)."""
     runs = tmp_path / "runs"
-    proc = start_bench(repo_root, "--binary", raytracer, "--profile", write_profile(tmp_path), "--runs-dir", runs,
-                       "--no-report")
+    proc = start_bench(
+        repo_root, "--binary", raytracer, "--profile", write_profile(tmp_path), "--runs-dir", runs, "--no-report"
+    )
     try:
         run_dir = one_run_dir(runs)
         victim = stop_a_later_run(run_dir)
@@ -130,8 +142,9 @@ def interrupt(repo_root, raytracer, tmp_path, signum):
     return subprocess.CompletedProcess(proc.args, proc.returncode, out, err), run_dir, victim
 
 
-def test_sigterm_stops_the_running_configuration_report_names_the_rest_and_resume_completes(repo_root, raytracer,
-                                                                                            tmp_path):
+def test_sigterm_stops_the_running_configuration_report_names_the_rest_and_resume_completes(
+    repo_root, raytracer, tmp_path
+):
     done, run_dir, victim = interrupt(repo_root, raytracer, tmp_path, signal.SIGTERM)
     assert done.returncode == 143, done.stderr
     wait_for(lambda: not Path(f"/proc/{victim}").exists(), "the running configuration's process to be gone", timeout=10)
@@ -141,7 +154,7 @@ def test_sigterm_stops_the_running_configuration_report_names_the_rest_and_resum
     statuses = [r["status"] for r in manifest["runs"]]
     finished = statuses.count("ok")
     assert 1 <= finished <= 2 and statuses[:finished] == ["ok"] * finished
-    assert statuses[finished] == "interrupted" and set(statuses[finished + 1:]) <= {"pending"}
+    assert statuses[finished] == "interrupted" and set(statuses[finished + 1 :]) <= {"pending"}
     config = manifest["runs"][0]["config"]
     assert manifest["missing"] == {config: list(range(finished, 3))}
     interrupted = manifest["runs"][finished]
@@ -151,8 +164,13 @@ def test_sigterm_stops_the_running_configuration_report_names_the_rest_and_resum
     assert f"scripts/bench --resume {run_dir}" in done.stderr and "SIGTERM" in done.stderr
 
     # The report of the unfinished run: the finished runs, and what is missing, on the console and in the README.
-    report = subprocess.run([repo_root / "scripts/report.py", run_dir, "-o", tmp_path / "report"],
-                            capture_output=True, text=True, env=environment(), timeout=300)
+    report = subprocess.run(
+        [repo_root / "scripts/report.py", run_dir, "-o", tmp_path / "report"],
+        capture_output=True,
+        text=True,
+        env=environment(),
+        timeout=300,
+    )
     assert report.returncode == 0, report.stderr
     assert f"run {run_dir.name} is unfinished (interrupted by SIGTERM)" in report.stderr
     assert f"{config} ({finished} of 3 repetitions)" in report.stderr

@@ -10,6 +10,7 @@ import textwrap
 import time
 
 import pytest
+
 from rtbench import load, names
 
 SMALL = ["--width", "32", "--height", "24"]
@@ -17,8 +18,13 @@ SMALL = ["--width", "32", "--height", "24"]
 
 def bench(repo_root, raytracer, *args, **kw):
     env = {**os.environ, "RT_SKIP_SETUP": "1", "RT_PYTHON": sys.executable}
-    return subprocess.run([repo_root / "scripts/bench", "--binary", raytracer, "--plain", *map(str, args)],
-                          capture_output=True, text=True, env=env, **kw)
+    return subprocess.run(
+        [repo_root / "scripts/bench", "--binary", raytracer, "--plain", *map(str, args)],
+        capture_output=True,
+        text=True,
+        env=env,
+        **kw,
+    )
 
 
 def only_run_dir(runs_dir):
@@ -60,7 +66,9 @@ def test_quick_profile_produces_a_complete_run_directory(repo_root, raytracer, t
 
 
 def test_failing_configuration_is_reported_and_the_others_still_run(repo_root, raytracer, tmp_path):
-    profile = write_profile(tmp_path, """
+    profile = write_profile(
+        tmp_path,
+        """
         description = "one scene breaks"
         scenes = ["default", "random20"]
         stages = ["optimized"]
@@ -72,7 +80,8 @@ def test_failing_configuration_is_reported_and_the_others_still_run(repo_root, r
         [[overrides]]
         scenes = ["random20"]
         args = ["--no-such-option"]
-    """)
+    """,
+    )
     runs = tmp_path / "runs"
     done = bench(repo_root, raytracer, "--profile", profile, "--runs-dir", runs, "--no-report")
     assert done.returncode == 1
@@ -89,7 +98,9 @@ def test_failing_configuration_is_reported_and_the_others_still_run(repo_root, r
 
 
 def test_ctrl_c_keeps_finished_runs_and_writes_the_manifest(repo_root, raytracer, tmp_path):
-    profile = write_profile(tmp_path, """
+    profile = write_profile(
+        tmp_path,
+        """
         description = "many short runs"
         scenes = ["random20"]
         stages = ["original"]
@@ -99,11 +110,17 @@ def test_ctrl_c_keeps_finished_runs_and_writes_the_manifest(repo_root, raytracer
         frames = 2
         repetitions = 200
         [renderers.sequential]
-    """)
+    """,
+    )
     runs = tmp_path / "runs"
     env = {**os.environ, "RT_SKIP_SETUP": "1", "RT_PYTHON": sys.executable}
-    proc = subprocess.Popen([repo_root / "scripts/bench", "--binary", raytracer, "--plain", "--profile", profile,
-                             "--runs-dir", runs], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    proc = subprocess.Popen(
+        [repo_root / "scripts/bench", "--binary", raytracer, "--plain", "--profile", profile, "--runs-dir", runs],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
     manifest_path = None
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:
@@ -155,7 +172,9 @@ def test_generated_scene_and_accels_are_run_and_recorded(repo_root, raytracer, t
     """A scene the generator makes is written into the run directory; each
     accel of the profile runs as --accel and comes back in the CSV, the
     sphere count in the tidy frame."""
-    profile = write_profile(tmp_path, f"""
+    profile = write_profile(
+        tmp_path,
+        f"""
         description = "generated scene x accels"
         scenes = ["random3"]
         stages = ["optimized"]
@@ -165,7 +184,8 @@ def test_generated_scene_and_accels_are_run_and_recorded(repo_root, raytracer, t
         warmup = 0
         frames = 1
         [renderers.sequential]
-    """.replace("'", '"'))
+    """.replace("'", '"'),
+    )
     runs = tmp_path / "runs"
     done = bench(repo_root, raytracer, "--profile", profile, "--runs-dir", runs, "--no-report")
     assert done.returncode == 0, done.stdout + done.stderr

@@ -5,9 +5,9 @@ import math
 
 import pandas as pd
 import pytest
-from rtbench import budget, load, report_writer
-
 from synthetic_runs import SyntheticConfig, write_run_dir
+
+from rtbench import budget, load, report_writer
 
 B60, B30 = budget.DEFAULT_BUDGETS_MS
 
@@ -55,8 +55,7 @@ def test_the_budget_is_for_the_whole_frame_and_warmup_frames_never_count(tmp_pat
     config = SyntheticConfig()
     # Render 16 ms is inside 16.67 ms, but with a 1 ms Present every frame misses it;
     # the 100 ms warm-up frames must not reach any statistic.
-    run = write_run_dir(tmp_path / "run", {config: [[100.0, 16.0, 16.0, 16.0], [100.0, 16.0, 16.0]]},
-                        present_ms=1.0)
+    run = write_run_dir(tmp_path / "run", {config: [[100.0, 16.0, 16.0, 16.0], [100.0, 16.0, 16.0]]}, present_ms=1.0)
     row = budget.summarize_budgets(load.load_runs([run])).iloc[0]
     assert row["n"] == 5 and row["median"] == 17.0 and row["max"] == 17.0
     assert row[budget.share_column(B60)] == 1.0 and row[budget.run_column(B60)] == 3

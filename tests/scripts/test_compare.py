@@ -8,9 +8,9 @@ import tarfile
 
 import numpy as np
 import pytest
-from rtbench import compare, compare_cli, compare_input, compare_output
-
 from synthetic_runs import Environment, SyntheticConfig, write_run_dir
+
+from rtbench import compare, compare_cli, compare_input, compare_output
 
 FAST = SyntheticConfig(renderer="simd_tbb", threads=2, lanes=16)
 SLOW = SyntheticConfig(renderer="sequential", threads=1, lanes=1)
@@ -51,7 +51,11 @@ def test_a_ten_percent_slowdown_is_slower(tmp_path, base_runs, capsys):
     assert by_label["random20/sequential/optimized"]["verdict"] == "~"
     assert result["verdicts"] == {"faster": 0, "slower": 1, "~": 1}
     assert result["geomean_ratio"] == pytest.approx(math.sqrt(1.10))
-    assert "slower" in out and (tmp_path / "out" / "compare.png").is_file() and (tmp_path / "out" / "compare.svg").is_file()
+    assert (
+        "slower" in out
+        and (tmp_path / "out" / "compare.png").is_file()
+        and (tmp_path / "out" / "compare.svg").is_file()
+    )
     assert "| random20/simd_tbb/optimized/t2/l16 | 10.0" in (tmp_path / "out" / "compare.md").read_text()
 
 
@@ -97,8 +101,14 @@ def test_configurations_on_one_side_only_are_listed(tmp_path, base_runs):
 
 def test_environment_differences_come_from_the_metadata(tmp_path, base_runs):
     base = write_run_dir(tmp_path / "base", base_runs)
-    other = Environment(cpu_model="Intel Xeon", logical_cores=16, compiler="GNU 14.3.0", git_commit="b" * 40,
-                        device="NVIDIA H200", libraries={"onetbb": "2022.0.0"})
+    other = Environment(
+        cpu_model="Intel Xeon",
+        logical_cores=16,
+        compiler="GNU 14.3.0",
+        git_commit="b" * 40,
+        device="NVIDIA H200",
+        libraries={"onetbb": "2022.0.0"},
+    )
     new = write_run_dir(tmp_path / "new", base_runs, env=other)
     cmp = compare_input.compare_paths([base], [new], compare.Options())
     differences = {fact: (b, n) for fact, b, n in cmp.differences}
@@ -116,8 +126,9 @@ def test_environment_differences_come_from_the_metadata(tmp_path, base_runs):
 def test_all_cores_matches_each_machines_whole_cpu(tmp_path, base_runs):
     base = write_run_dir(tmp_path / "base", base_runs, env=Environment(logical_cores=2))
     whole = SyntheticConfig(renderer="simd_tbb", threads=16, lanes=16)
-    new = write_run_dir(tmp_path / "new", {whole: frame_times(2.0, 5), SLOW: base_runs[SLOW]},
-                        env=Environment(logical_cores=16))
+    new = write_run_dir(
+        tmp_path / "new", {whole: frame_times(2.0, 5), SLOW: base_runs[SLOW]}, env=Environment(logical_cores=16)
+    )
     exact = compare_input.compare_paths([base], [new], compare.Options())
     assert exact.only_base == ["random20/simd_tbb/optimized/t2/l16"]
     matched = compare_input.compare_paths([base], [new], compare.Options(all_cores=True))
@@ -138,7 +149,7 @@ def test_a_corrupted_csv_is_exit_2_naming_the_file(tmp_path, base_runs, capsys):
     broken = next((new / "frames").glob("*.csv"))
     lines = broken.read_text().splitlines()
     broken.write_text("\n".join([*lines[:3], lines[3].replace(",", ";"), *lines[4:]]) + "\n")
-    code, out, err = run_compare(capsys, base, new, "-o", tmp_path / "out")
+    code, _out, err = run_compare(capsys, base, new, "-o", tmp_path / "out")
     assert code == 2 and str(broken) in err and "line 4" in err
     assert not (tmp_path / "out").exists()  # nothing half-written
     code, _, err = run_compare(capsys, base, tmp_path / "absent")
@@ -173,6 +184,7 @@ def test_an_archive_reaching_outside_its_directory_is_refused(tmp_path, base_run
 
 
 # --- the statistics ----------------------------------------------------------------
+
 
 def test_verdict_needs_every_test():
     assert compare.verdict(1.2, (1.1, 1.3), 0.001, 0.05, 0.05) == "slower"

@@ -9,11 +9,16 @@ import types
 from pathlib import Path
 
 import pytest
-from rtbench import bench, cli, interpreter, report_writer
 from synthetic_runs import SyntheticConfig, write_run_dir
 
-WRAPPERS = {"bench": "scripts/bench", "report": "scripts/report.py", "compare": "scripts/compare.py",
-            "gen-scene": "scripts/gen_scene.py"}
+from rtbench import bench, cli, interpreter, report_writer
+
+WRAPPERS = {
+    "bench": "scripts/bench",
+    "report": "scripts/report.py",
+    "compare": "scripts/compare.py",
+    "gen-scene": "scripts/gen_scene.py",
+}
 
 
 def run(repo_root, *argv):
@@ -52,8 +57,10 @@ PYTHON_SCRIPTS = {"report": "scripts/report.py", "compare": "scripts/compare.py"
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory):
     """A small run: two renderers of one scene, two repetitions each."""
-    runs = {SyntheticConfig(renderer="sequential", threads=1, lanes=1): [[30.0, 20.0, 21.0, 20.5]] * 2,
-            SyntheticConfig(renderer="simd_tbb", threads=2, lanes=16): [[9.0, 5.0, 5.2, 5.1]] * 2}
+    runs = {
+        SyntheticConfig(renderer="sequential", threads=1, lanes=1): [[30.0, 20.0, 21.0, 20.5]] * 2,
+        SyntheticConfig(renderer="simd_tbb", threads=2, lanes=16): [[9.0, 5.0, 5.2, 5.1]] * 2,
+    }
     return write_run_dir(tmp_path_factory.mktemp("entry") / "run", runs)
 
 
@@ -62,7 +69,7 @@ def wrapper(directory, target, *flags):
     stand first on PATH or in $RT_PYTHON as a python3 of its own."""
     directory.mkdir(exist_ok=True)
     path = directory / "python3"
-    path.write_text(f"#!/bin/sh\nexec {target} {' '.join(flags)} \"$@\"\n")
+    path.write_text(f'#!/bin/sh\nexec {target} {" ".join(flags)} "$@"\n')
     path.chmod(0o755)
     return path
 
@@ -75,8 +82,9 @@ def bare_python(tmp_path_factory):
     ignores PYTHONPATH, -s the user's site-packages. Not -I, which would also
     drop the script's directory (scripts/, where rtbench is) from sys.path."""
     path = wrapper(tmp_path_factory.mktemp("bare"), sys.executable, "-E", "-s", "-S")
-    done = subprocess.run([path, "-c", "import importlib.util as u; print(u.find_spec('pandas') is None)"],
-                          capture_output=True, text=True)
+    done = subprocess.run(
+        [path, "-c", "import importlib.util as u; print(u.find_spec('pandas') is None)"], capture_output=True, text=True
+    )
     assert done.stdout.strip() == "True", f"{path} was meant to lack pandas: {done.stdout}{done.stderr}"
     return path
 
@@ -108,8 +116,9 @@ def assert_report(done, out):
 def test_report_py_runs_under_python3(repo_root, run_dir, tmp_path):
     """`python3 scripts/report.py RUN -o OUT`, python3 being the Python running the tests."""
     out = tmp_path / "out"
-    done = run_script(repo_root, [sys.executable, repo_root / "scripts/report.py", run_dir, "-o", out],
-                      script_env(), tmp_path)
+    done = run_script(
+        repo_root, [sys.executable, repo_root / "scripts/report.py", run_dir, "-o", out], script_env(), tmp_path
+    )
     assert_report(done, out)
 
 
@@ -123,8 +132,7 @@ def test_report_py_runs_as_a_command(repo_root, run_dir, tmp_path):
 
 
 @pytest.mark.parametrize("as_command", [False, True], ids=["python3 scripts/report.py", "scripts/report.py"])
-def test_a_python3_without_pandas_hands_the_report_to_rt_python(repo_root, run_dir, tmp_path, bare_python,
-                                                                 as_command):
+def test_a_python3_without_pandas_hands_the_report_to_rt_python(repo_root, run_dir, tmp_path, bare_python, as_command):
     out = tmp_path / "out"
     argv = [repo_root / "scripts/report.py", run_dir, "-o", out]
     env = script_env(path_first=bare_python, rt_python=sys.executable)
@@ -134,8 +142,12 @@ def test_a_python3_without_pandas_hands_the_report_to_rt_python(repo_root, run_d
 
 @pytest.mark.parametrize("command", PYTHON_SCRIPTS)
 def test_help_through_the_python_that_has_the_packages(repo_root, bare_python, tmp_path, command):
-    done = run_script(repo_root, [bare_python, repo_root / PYTHON_SCRIPTS[command], "--help"],
-                      script_env(rt_python=sys.executable), tmp_path)
+    done = run_script(
+        repo_root,
+        [bare_python, repo_root / PYTHON_SCRIPTS[command], "--help"],
+        script_env(rt_python=sys.executable),
+        tmp_path,
+    )
     assert done.returncode == 0 and done.stdout.startswith(f"usage: {command}.py"), done.stderr
 
 
@@ -180,16 +192,16 @@ def test_ensure_starts_the_script_again_once(monkeypatch, tmp_path):
     first start hands over to $RT_PYTHON, marked; the marked start takes the
     mark out and stops with the message instead of handing over again."""
     calls = []
-    monkeypatch.setattr(os, "execv", lambda path, argv: calls.append(
-        (path, argv, os.environ.get(interpreter.REEXECUTED_FROM))))
+    monkeypatch.setattr(
+        os, "execv", lambda path, argv: calls.append((path, argv, os.environ.get(interpreter.REEXECUTED_FROM)))
+    )
     other = wrapper(tmp_path / "other", sys.executable)
     monkeypatch.setenv("RT_PYTHON", str(other))
     monkeypatch.delenv(interpreter.REEXECUTED_FROM, raising=False)
     interpreter.ensure("report.py", ["json"], "scripts/report.py", ["RUN"])  # this Python has it: nothing happens
     assert calls == []
     interpreter.ensure("report.py", ["rtbench_no_such_module"], "scripts/report.py", ["RUN", "-o", "x"])
-    assert calls == [(str(other), [str(other), os.path.abspath("scripts/report.py"), "RUN", "-o", "x"],
-                      sys.executable)]
+    assert calls == [(str(other), [str(other), os.path.abspath("scripts/report.py"), "RUN", "-o", "x"], sys.executable)]
     with pytest.raises(SystemExit) as stopped:
         interpreter.ensure("report.py", ["rtbench_no_such_module"], "scripts/report.py", ["RUN", "-o", "x"])
     assert len(calls) == 1 and interpreter.REEXECUTED_FROM not in os.environ
@@ -250,6 +262,7 @@ def test_the_bench_needs_what_it_and_its_report_import():
 
 
 # --- the bench runner's report, in its own process ---------------------------------------------------
+
 
 def test_the_bench_reports_in_process(run_dir, tmp_path, capsys):
     out = tmp_path / "report"

@@ -3,6 +3,7 @@ import subprocess
 import sys
 
 import pytest
+
 from rtbench import scenes
 
 
@@ -32,9 +33,11 @@ def _extent(scene):
     """(largest |y|, largest distance from the axis + radius, camera orbit radius)."""
     spheres = scene["spheres"]
     cam = scene["camera"]["position"]
-    return (max(abs(s["position"][1]) for s in spheres),
-            max((s["position"][0] ** 2 + s["position"][2] ** 2) ** 0.5 + s["radius"] for s in spheres),
-            (cam[0] ** 2 + cam[2] ** 2) ** 0.5)
+    return (
+        max(abs(s["position"][1]) for s in spheres),
+        max((s["position"][0] ** 2 + s["position"][2] ** 2) ** 0.5 + s["radius"] for s in spheres),
+        (cam[0] ** 2 + cam[2] ** 2) ** 0.5,
+    )
 
 
 @pytest.mark.parametrize("count", [300, 2000])
@@ -72,15 +75,21 @@ def test_spheres_stay_inside_the_camera_orbit():
 
 def test_generated_scene_renders(raytracer, repo_root, tmp_path):
     subprocess.run(
-        [sys.executable, repo_root / "scripts/gen_scene.py", "--random", "7", "--seed", "3", "-o", tmp_path], check=True, capture_output=True
+        [sys.executable, repo_root / "scripts/gen_scene.py", "--random", "7", "--seed", "3", "-o", tmp_path],
+        check=True,
+        capture_output=True,
     )
     scene = tmp_path / "random7-seed3.json"
     assert len(json.loads(scene.read_text())["spheres"]) == 7
-    done = subprocess.run([raytracer, "--quiet", "--width", "16", "--height", "8", "--frames", "1", "--warmup", "0", scene])
+    done = subprocess.run(
+        [raytracer, "--quiet", "--width", "16", "--height", "8", "--frames", "1", "--warmup", "0", scene]
+    )
     assert done.returncode == 0
 
 
-@pytest.mark.parametrize("args", [["nosuchscene", "-o", "."], ["--random", "0", "-o", "."], ["default", "-o", "/nonexistent"]])
+@pytest.mark.parametrize(
+    "args", [["nosuchscene", "-o", "."], ["--random", "0", "-o", "."], ["default", "-o", "/nonexistent"]]
+)
 def test_bad_arguments_are_rejected(repo_root, args):
     done = subprocess.run([sys.executable, repo_root / "scripts/gen_scene.py", *args], capture_output=True, text=True)
     assert done.returncode == 2
@@ -97,8 +106,11 @@ def test_a_scene_beyond_the_limits_is_refused_before_it_is_generated(repo_root):
         scenes.random_scene(10**17, seed=1)
     spread, _, orbit = scenes._layout(10**7)  # ten million spheres stay far inside
     assert max(spread, orbit) < max_magnitude / 100
-    done = subprocess.run([sys.executable, str(repo_root / "scripts/gen_scene.py"), "random100000000000000000",
-                           "-o", "/tmp"], capture_output=True, text=True)
+    done = subprocess.run(
+        [sys.executable, str(repo_root / "scripts/gen_scene.py"), "random100000000000000000", "-o", "/tmp"],
+        capture_output=True,
+        text=True,
+    )
     assert done.returncode == 2 and "beyond the scene limit" in done.stderr
 
 
@@ -110,6 +122,6 @@ def test_the_render_model_states_the_schema_limits(repo_root):
 
     max_magnitude, min_length = schema.scene_limits()
     text = (repo_root / "docs/render-model.md").read_text()
-    limits = text[text.index("**Limits**"):text.index("**Rejection.**")]
+    limits = text[text.index("**Limits**") : text.index("**Rejection.**")]
     assert f"[-{written(max_magnitude)}, {written(max_magnitude)}]" in limits
     assert f"at least {written(min_length)}" in limits

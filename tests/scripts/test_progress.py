@@ -10,6 +10,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+
 from rtbench import builder, progress
 
 FIXTURES = Path(__file__).parent / "fixtures" / "ninja"
@@ -18,13 +19,14 @@ FIXTURES = Path(__file__).parent / "fixtures" / "ninja"
 def condensed(name: str) -> tuple[list[str], progress.BuildProgress]:
     show = progress.BuildProgress("building preset x", clock=lambda: 0.0)
     lines = [m for line in (FIXTURES / name).read_text().splitlines(keepends=True) if (m := show.feed(line))]
-    return lines + [show.summary()], show
+    return [*lines, show.summary()], show
 
 
 def test_a_first_build_prints_a_line_every_ten_percent_and_a_last_one():
     lines, show = condensed("build-ok.log")  # 46 steps, as recorded from a build of the profile preset
-    assert lines == [f"building preset x: {n}/46 ({100 * n // 46} %)" for n in (5, 10, 14, 19, 23, 28, 33, 37, 42)] + \
-        ["building preset x: ran 46 of 46 steps in 0 s"]
+    assert lines == [f"building preset x: {n}/46 ({100 * n // 46} %)" for n in (5, 10, 14, 19, 23, 28, 33, 37, 42)] + [
+        "building preset x: ran 46 of 46 steps in 0 s"
+    ]
     assert show.warnings == 0
 
 
@@ -35,8 +37,13 @@ def test_nothing_to_do_is_one_line():
 def test_a_failed_build_keeps_its_whole_output_in_the_log(tmp_path):
     recorded = (FIXTURES / "build-failed.log").read_text()
     log = tmp_path / "build.log"
-    done = subprocess.run([sys.executable, "-m", "rtbench.progress", "building preset debug", "--log", log],
-                          input=recorded, capture_output=True, text=True, env=python_env())
+    done = subprocess.run(
+        [sys.executable, "-m", "rtbench.progress", "building preset debug", "--log", log],
+        input=recorded,
+        capture_output=True,
+        text=True,
+        env=python_env(),
+    )
     assert done.returncode == 0
     assert log.read_text() == recorded
     assert "error: ‘RT_WINDOW’ was not declared" not in done.stderr  # the error is for the caller to print
@@ -45,8 +52,15 @@ def test_a_failed_build_keeps_its_whole_output_in_the_log(tmp_path):
 
 def test_warnings_are_shown_and_counted():
     show = progress.BuildProgress("b", clock=lambda: 0.0)
-    shown = [show.feed(line) for line in ["[1/3] Building CXX object a.o\n", "a.cpp:3:5: warning: unused 'x'\n",
-                                          "    3 | int x;\n", "[3/3] Linking\n"]]
+    shown = [
+        show.feed(line)
+        for line in [
+            "[1/3] Building CXX object a.o\n",
+            "a.cpp:3:5: warning: unused 'x'\n",
+            "    3 | int x;\n",
+            "[3/3] Linking\n",
+        ]
+    ]
     assert shown == ["b: 1/3 (33 %)", "a.cpp:3:5: warning: unused 'x'", None, None]
     assert show.summary() == "b: ran 3 of 3 steps in 0 s, 1 compiler warning"
     out, log = io.StringIO(), io.StringIO()
@@ -64,8 +78,14 @@ def run_steps(repo_root, tmp_path, body: str, cwd=None):
     script = f"set -euo pipefail\nsource {repo_root}/scripts/lib/steps.sh\n{body}"
     logs = tmp_path / "logs"
     logs.mkdir(exist_ok=True)
-    return subprocess.run(["bash", "-c", script, "try"], capture_output=True, text=True, cwd=cwd, timeout=300,
-                          env={**python_env(), "TMPDIR": str(logs)})
+    return subprocess.run(
+        ["bash", "-c", script, "try"],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=300,
+        env={**python_env(), "TMPDIR": str(logs)},
+    )
 
 
 def test_a_step_prints_one_line_and_its_whole_output_only_when_it_fails(repo_root, tmp_path):
@@ -76,8 +96,11 @@ def test_a_step_prints_one_line_and_its_whole_output_only_when_it_fails(repo_roo
     assert after.returncode == 4 and after.stderr == "try: doing fine\n", "no log kept, none named"
     assert list((tmp_path / "logs").iterdir()) == []
 
-    failing = run_steps(repo_root, tmp_path, 'step "doing badly" sh -c "for i in 1 2 3; do echo line \\$i; done; exit 3"\n'
-                                   'echo not reached')
+    failing = run_steps(
+        repo_root,
+        tmp_path,
+        'step "doing badly" sh -c "for i in 1 2 3; do echo line \\$i; done; exit 3"\necho not reached',
+    )
     assert failing.returncode == 3 and "not reached" not in failing.stdout
     assert "line 1\nline 2\nline 3\n" in failing.stderr
     assert "try: doing badly failed (exit 3)" in failing.stderr

@@ -37,7 +37,7 @@ CPU_RENDERER = re.compile(r"CpuRenderer<(\w+)Kernel, (\w+)Scheduler>")
 def renderer_table(text: str) -> list[list[str]]:
     """The rows of the README's renderer table, as cells."""
     section = _section(text, "## Architecture")
-    lines = section[section.index(RENDERER_TABLE_HEADER):].splitlines()[2:]
+    lines = section[section.index(RENDERER_TABLE_HEADER) :].splitlines()[2:]
     rows = []
     for line in lines:
         if not line.startswith("|"):
@@ -46,8 +46,9 @@ def renderer_table(text: str) -> list[list[str]]:
     return rows
 
 
-def renderer_table_disagreements(text: str, renderers: list[dict], kernels: list[str],
-                                 schedulers: list[str]) -> list[str]:
+def renderer_table_disagreements(
+    text: str, renderers: list[dict], kernels: list[str], schedulers: list[str]
+) -> list[str]:
     """What the README's renderer table says otherwise than the schema's
     renderers: the names in schema order, each one's flag, kernel and
     scheduler (a renderer with neither, as gpu, must not name a CPU one),

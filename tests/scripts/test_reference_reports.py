@@ -23,6 +23,7 @@ from pathlib import Path
 import matplotlib
 import matplotlib.image
 import pytest
+
 from rtbench import report_writer
 
 # (report directory, its committed run), as data/reference-runs/README.md lists them.
@@ -44,7 +45,7 @@ def report_files(root: Path) -> dict[str, Path]:
     files = {}
     for part in REPORT_PARTS:
         path = root / part
-        for f in ([path] if path.is_file() else sorted(p for p in path.glob("*") if p.is_file())):
+        for f in [path] if path.is_file() else sorted(p for p in path.glob("*") if p.is_file()):
             files[f.relative_to(root).as_posix()] = f
     return files
 
@@ -85,9 +86,13 @@ def test_a_report_from_an_archive_is_the_report_from_its_directory(tmp_path):
 
     from synthetic_runs import SyntheticConfig, write_run_dir
 
-    run = write_run_dir(tmp_path / "20260101T000000Z-synthetic",
-                        {SyntheticConfig(): [[4.0, 2.0, 2.1, 1.9]], SyntheticConfig(renderer="sequential", threads=1,
-                                                                                     lanes=1): [[9.0, 8.0, 8.2, 7.9]]})
+    run = write_run_dir(
+        tmp_path / "20260101T000000Z-synthetic",
+        {
+            SyntheticConfig(): [[4.0, 2.0, 2.1, 1.9]],
+            SyntheticConfig(renderer="sequential", threads=1, lanes=1): [[9.0, 8.0, 8.2, 7.9]],
+        },
+    )
     packed = tmp_path / "run.tar.xz"
     with tarfile.open(packed, "w:xz") as tar:
         tar.add(run, arcname=run.name)

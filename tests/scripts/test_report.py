@@ -6,8 +6,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
 import pandas as pd
+import pytest
+
 from rtbench import names, report_writer, tables
 
 FIXTURE = Path(__file__).parent / "fixtures" / "thesis-run"
@@ -15,8 +16,12 @@ FIXTURE = Path(__file__).parent / "fixtures" / "thesis-run"
 
 def report_command(repo_root, *args):
     """scripts/report.py as a person runs it, under the Python running the tests."""
-    return subprocess.run([repo_root / "scripts/report.py", *args], capture_output=True, text=True,
-                          env={**os.environ, "RT_PYTHON": sys.executable})
+    return subprocess.run(
+        [repo_root / "scripts/report.py", *args],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "RT_PYTHON": sys.executable},
+    )
 
 
 @pytest.fixture(scope="module")
@@ -29,10 +34,18 @@ def generated(tmp_path_factory, repo_root):
 
 def test_readme_has_every_section(generated):
     readme = (generated / "README.md").read_text()
-    for heading in ("## What ran", "## Warnings", "## How to read this report", "## The thesis' tables 1-4, for our run",
-                    "## The thesis beside ours", "## What the stages change",
-                    "## Speedup and Karp-Flatt", "## The thesis' own metrics, recomputed",
-                    "## Figures", "## Runs without data"):
+    for heading in (
+        "## What ran",
+        "## Warnings",
+        "## How to read this report",
+        "## The thesis' tables 1-4, for our run",
+        "## The thesis beside ours",
+        "## What the stages change",
+        "## Speedup and Karp-Flatt",
+        "## The thesis' own metrics, recomputed",
+        "## Figures",
+        "## Runs without data",
+    ):
         assert heading in readme
     for n in (1, 2, 3, 4):
         assert f"**Table {n} (" in readme
@@ -83,7 +96,10 @@ def test_outlier_is_flagged_and_kept(generated):
 
 
 def test_failed_run_is_listed(generated):
-    assert "random100-simd_tbb-custom r0 | failed | 1 | raytracer: fixture failure" in (generated / "README.md").read_text()
+    assert (
+        "random100-simd_tbb-custom r0 | failed | 1 | raytracer: fixture failure"
+        in (generated / "README.md").read_text()
+    )
 
 
 def test_latex_and_figures_are_written(generated):
@@ -116,8 +132,13 @@ def test_thesis_tables_show_brute_force_only_and_every_accel_is_a_column():
     inputs = report_writer.gather([FIXTURE])
     inputs.frames = inputs.frames[inputs.frames[names.STAGE] == "optimized"]  # table 4 only: half the time
     other = names.ACCELS[-1]
-    faster = inputs.frames.assign(**{names.ACCEL: other, names.RENDER_MS: inputs.frames[names.RENDER_MS] / 3,
-                                     names.RUN_ID: inputs.frames[names.RUN_ID] + "x"})
+    faster = inputs.frames.assign(
+        **{
+            names.ACCEL: other,
+            names.RENDER_MS: inputs.frames[names.RENDER_MS] / 3,
+            names.RUN_ID: inputs.frames[names.RUN_ID] + "x",
+        }
+    )
     inputs_both = report_writer.ReportInputs(**{**vars(inputs), "frames": pd.concat([inputs.frames, faster])})
     alone, both = report_writer.compute(inputs), report_writer.compute(inputs_both)
     thesis_alone = [t for t in alone.tables if t.slug.startswith("table")]
@@ -129,7 +150,7 @@ def test_thesis_tables_show_brute_force_only_and_every_accel_is_a_column():
     for t in both.tables:
         assert len(t.align) == len(t.headers) and all(len(row) == len(t.headers) for row in t.rows), t.slug
     met = both.metrics.set_index([names.SCENE, names.STAGE, names.RENDERER, names.ACCEL])["speedup"]
-    for (scene, stage, renderer, accel), s in met.items():
+    for (scene, stage, renderer, _accel), s in met.items():
         assert s == pytest.approx(met[(scene, stage, renderer, names.BRUTE_FORCE)])
     summary = tables.to_markdown(tables.summary_table(both.summary))
     assert f"| optimized | random100 | simd_tbb | {other} |" in summary

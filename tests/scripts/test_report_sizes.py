@@ -7,8 +7,9 @@ configuration that is not in its panel."""
 import warnings
 
 import pytest
-from rtbench import plots, report_writer, tables
 from synthetic_runs import SyntheticConfig, write_run_dir
+
+from rtbench import plots, report_writer, tables
 
 SMALL, LARGE = (96, 72), (192, 144)
 
@@ -35,8 +36,10 @@ def test_thesis_tables_name_their_size_and_the_empty_ones_are_left_out(mixed_run
     mirrors = {t.slug: t for t in results.tables if t.slug.startswith("table")}
     small, large = (f"{w}x{h}" for w, h in (SMALL, LARGE))
     # Stages single-pass and optimized ran at the small size; at the large one only the gpu, optimized.
-    assert {slug for slug in mirrors if slug.endswith(small)} == {f"table3-single-pass-{small}",
-                                                                   f"table4-optimized-{small}"}
+    assert {slug for slug in mirrors if slug.endswith(small)} == {
+        f"table3-single-pass-{small}",
+        f"table4-optimized-{small}",
+    }
     assert {slug for slug in mirrors if slug.endswith(large)} == {f"table4-optimized-{large}"}
     readme = report_writer.readme(inputs, results, {}, mixed_run)
     assert "none of their renderers ran at their stage in this run: tables 1 (original: " in readme
@@ -50,8 +53,7 @@ def test_thesis_tables_name_their_size_and_the_empty_ones_are_left_out(mixed_run
 def test_render_bars_show_each_size_once_and_the_widest_configuration(mixed_run):
     summary = report_writer.compute(report_writer.gather([mixed_run])).summary
     labels = sorted(plots.bar_rows(summary)["_label"])
-    assert labels == sorted(["sequential 96x72"] * 3 + ["simd_tbb t2 l16 96x72", "gpu 96x72",
-                             "gpu 192x144"])
+    assert labels == sorted(["sequential 96x72"] * 3 + ["simd_tbb t2 l16 96x72", "gpu 96x72", "gpu 192x144"])
 
 
 def test_figures_of_a_mixed_run_draw_without_numpy_warnings(mixed_run, tmp_path):

@@ -8,10 +8,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from rtbench import atomic, metrics, names, plots, report_writer, tables
 
 sys.path.insert(0, str(Path(__file__).parent / "fixtures"))
-import make_thesis_run as fixture  # noqa: E402
+import make_thesis_run as fixture
 
 COUNTS = (10, 100, 1000, 10000)
 # (renderer, accel) -> (c, k): the run's medians are exactly c N^k.
@@ -45,7 +46,9 @@ def report(tmp_path_factory):
     inputs = report_writer.gather([run])
     results = report_writer.compute(inputs)
     out = run / "report"
-    figures = {"cost_vs_spheres": plots.cost_vs_spheres(results.curves, results.cost_fits, out / "plots/cost_vs_spheres")}
+    figures = {
+        "cost_vs_spheres": plots.cost_vs_spheres(results.curves, results.cost_fits, out / "plots/cost_vs_spheres")
+    }
     (table,) = [t for t in results.tables if t.slug == "cost-vs-spheres"]
     assert len(table.align) == len(table.headers) and all(len(row) == len(table.headers) for row in table.rows)
     atomic.write_text(out / "tables/cost-vs-spheres.md", tables.to_markdown(table))

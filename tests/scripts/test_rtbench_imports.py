@@ -42,8 +42,9 @@ def package_imports(source: str, modules: set[str]) -> set[str]:
 
 def import_graph(package_dir: Path) -> dict[str, set[str]]:
     modules = package_modules(package_dir)
-    return {name: package_imports(path.read_text(encoding="utf-8"), set(modules)) - {name}
-            for name, path in modules.items()}
+    return {
+        name: package_imports(path.read_text(encoding="utf-8"), set(modules)) - {name} for name, path in modules.items()
+    }
 
 
 def find_cycle(graph: dict[str, set[str]]) -> list[str] | None:
@@ -54,7 +55,7 @@ def find_cycle(graph: dict[str, set[str]]) -> list[str] | None:
 
     def visit(module: str) -> list[str] | None:
         if module in path:
-            return path[path.index(module):] + [module]
+            return [*path[path.index(module) :], module]
         if module in done:
             return None
         path.append(module)

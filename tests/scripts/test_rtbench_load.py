@@ -6,6 +6,7 @@ import shutil
 from pathlib import Path
 
 import pytest
+
 from rtbench import load, names
 
 FIXTURE = Path(__file__).parent / "fixtures" / "thesis-run"
@@ -118,8 +119,9 @@ def test_fixture_is_what_its_generator_writes(tmp_path, repo_root):
 
     out = tmp_path / "regenerated"
     env = {**os.environ, "PYTHONPATH": str(repo_root / "scripts")}
-    subprocess.run([sys.executable, FIXTURE.parent / "make_thesis_run.py", "-o", out], check=True, capture_output=True,
-                   env=env)
+    subprocess.run(
+        [sys.executable, FIXTURE.parent / "make_thesis_run.py", "-o", out], check=True, capture_output=True, env=env
+    )
     committed = sorted(p.relative_to(FIXTURE) for p in FIXTURE.rglob("*") if p.is_file())
     assert committed == sorted(p.relative_to(out) for p in out.rglob("*") if p.is_file())
     for rel in committed:

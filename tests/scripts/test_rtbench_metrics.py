@@ -3,6 +3,7 @@
 import math
 
 import pytest
+
 from rtbench import metrics, thesis
 
 
@@ -43,7 +44,12 @@ def test_thesis_karp_flatt_recomputed_differs_from_reported(published):
 
 def test_table_layout_comes_from_the_thesis_data():
     layout = thesis.table_layout(thesis.load_tables())
-    assert [(t.number, t.stage) for t in layout] == [(1, "original"), (2, "original"), (3, "single-pass"), (4, "optimized")]
+    assert [(t.number, t.stage) for t in layout] == [
+        (1, "original"),
+        (2, "original"),
+        (3, "single-pass"),
+        (4, "optimized"),
+    ]
     assert layout[1].renderers == ("simd_only", "tbb_only")
     assert layout[0].scenes == ("default", "random20", "random100")
 
@@ -64,14 +70,30 @@ def test_processors_from_metadata_and_gpu_estimates():
 
 def _scaling_summary():
     import pandas as pd
+
     from rtbench import names
 
     rows = []
     for threads, median in ((1, 100.0), (2, 55.0), (4, 30.0)):
-        rows.append({names.SCENE: "s", names.SPHERES: 3, names.STAGE: "optimized", names.ACCEL: names.BRUTE_FORCE,
-                     names.RENDERER: "tbb_only", names.LANES: 1,
-                     names.SIMD_TARGET: "", names.WIDTH: 8, names.HEIGHT: 8, names.DEVICE: "", names.BUILD_TYPE: "Release",
-                     names.THREADS: threads, "median": median, "ci_low": median * 0.99, "ci_high": median * 1.01})
+        rows.append(
+            {
+                names.SCENE: "s",
+                names.SPHERES: 3,
+                names.STAGE: "optimized",
+                names.ACCEL: names.BRUTE_FORCE,
+                names.RENDERER: "tbb_only",
+                names.LANES: 1,
+                names.SIMD_TARGET: "",
+                names.WIDTH: 8,
+                names.HEIGHT: 8,
+                names.DEVICE: "",
+                names.BUILD_TYPE: "Release",
+                names.THREADS: threads,
+                "median": median,
+                "ci_low": median * 0.99,
+                "ci_high": median * 1.01,
+            }
+        )
     rows.append({**rows[0], names.RENDERER: names.reference_renderer(), "median": 100.0})
     return pd.DataFrame(rows)
 

@@ -5,6 +5,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+
 from rtbench import configurations, names, profiles, schema
 from rtbench.profiles import ProfileError
 
@@ -87,13 +88,16 @@ def test_round_robin_alternates_renderers_and_shuffle_is_seeded():
 
 
 def test_explicit_algorithm_and_early_exits_become_their_own_variant(tmp_path):
-    path = _write(tmp_path, """
+    path = _write(
+        tmp_path,
+        """
         description = "ablation"
         scenes = ["default"]
         stages = ["optimized", {algorithm = "two-pass", early_exits = ["bounce"]},
                   {algorithm = "single-pass", early_exits = ["bounce"]}]
         [renderers.sequential]
-    """)
+    """,
+    )
     variants = profiles.load_profile(str(path)).variants
     assert [v.label for v in variants] == ["optimized", "two-pass[bounce]", "single-pass"]
     assert variants[1].args() == ["--algorithm", "two-pass", "--early-exit", "bounce"]
@@ -105,24 +109,42 @@ def _write(tmp_path, text):
     return path
 
 
+# The keys every profile needs, before the part a case gets wrong.
+PROFILE_HEAD = 'description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n'
+
+
 @pytest.mark.parametrize(
     "body, message",
     [
-        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\nbogus = 1\n[renderers.sequential]\n', "bogus"),
+        (
+            PROFILE_HEAD + "bogus = 1\n[renderers.sequential]\n",
+            "bogus",
+        ),
         ('description = "x"\nscenes = ["default"]\nstages = ["fast"]\n[renderers.sequential]\n', "fast"),
-        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.turbo]\n', "turbo"),
-        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\nframes = 0\n[renderers.sequential]\n', "frames"),
-        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.simd_tbb]\nwarp = [1]\n', "warp"),
+        (PROFILE_HEAD + "[renderers.turbo]\n", "turbo"),
+        (
+            PROFILE_HEAD + "frames = 0\n[renderers.sequential]\n",
+            "frames",
+        ),
+        (PROFILE_HEAD + "[renderers.simd_tbb]\nwarp = [1]\n", "warp"),
         ('description = "x"\nstages = ["optimized"]\n[renderers.sequential]\n', "scenes"),
         ('description = "x"\nscenes = [\n', "TOML"),
-        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.simd_only]\nlanes = [3]\n',
-         "renderers.simd_only.lanes must be one of 4, 8, 16, native"),
-        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.simd_tbb]\npartition = "cols"\n',
-         "renderers.simd_tbb.partition must be one of rows, tiles"),
-        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\n[renderers.tbb_only]\nthreads = ["many"]\n',
-         "renderers.tbb_only.threads must be a positive integer"),
-        ('description = "x"\nscenes = ["default"]\nstages = ["optimized"]\ninterleave = "random"\n[renderers.gpu]\n',
-         "interleave must be one of round-robin, shuffle, blocked, not 'random'"),
+        (
+            PROFILE_HEAD + "[renderers.simd_only]\nlanes = [3]\n",
+            "renderers.simd_only.lanes must be one of 4, 8, 16, native",
+        ),
+        (
+            PROFILE_HEAD + '[renderers.simd_tbb]\npartition = "cols"\n',
+            "renderers.simd_tbb.partition must be one of rows, tiles",
+        ),
+        (
+            PROFILE_HEAD + '[renderers.tbb_only]\nthreads = ["many"]\n',
+            "renderers.tbb_only.threads must be a positive integer",
+        ),
+        (
+            PROFILE_HEAD + 'interleave = "random"\n[renderers.gpu]\n',
+            "interleave must be one of round-robin, shuffle, blocked, not 'random'",
+        ),
     ],
 )
 def test_bad_profiles_are_rejected_naming_file_and_key(tmp_path, body, message):
@@ -151,13 +173,16 @@ OPTION_VALUES = {"threads": 2, "lanes": names.LANE_WIDTHS[0], "grain": 4, "parti
 @pytest.mark.parametrize("option", names.OPTION_FLAGS)
 def test_a_renderer_takes_exactly_the_options_the_schema_gives_it(tmp_path, renderer, option):
     value = OPTION_VALUES.get(option, 1)
-    path = _write(tmp_path, f"""
+    path = _write(
+        tmp_path,
+        f"""
         description = "x"
         scenes = ["default"]
         stages = ["optimized"]
         [renderers.{renderer}]
         {option} = [{value!r}]
-    """.replace("'", '"'))
+    """.replace("'", '"'),
+    )
     if option not in schema.accepted_options(renderer):
         with pytest.raises(ProfileError, match=f"renderers.{renderer}.{option}: renderer {renderer} does not take"):
             profiles.load_profile(str(path))
@@ -170,14 +195,23 @@ def test_a_renderer_takes_exactly_the_options_the_schema_gives_it(tmp_path, rend
 
 
 def test_accels_are_an_axis_passed_as_accel(tmp_path):
-    default = profiles.load_profile(str(_write(tmp_path, """
+    default = profiles.load_profile(
+        str(
+            _write(
+                tmp_path,
+                """
         description = "x"
         scenes = ["default"]
         stages = ["optimized"]
         [renderers.sequential]
-    """)))
+    """,
+            )
+        )
+    )
     assert default.accels == (names.BRUTE_FORCE,)
-    path = _write(tmp_path, f"""
+    path = _write(
+        tmp_path,
+        f"""
         description = "x"
         scenes = ["default"]
         stages = ["optimized"]
@@ -186,7 +220,8 @@ def test_accels_are_an_axis_passed_as_accel(tmp_path):
         [[overrides]]
         accels = [{names.ACCELS[-1]!r}]
         frames = 9
-    """.replace("'", '"'))
+    """.replace("'", '"'),
+    )
     configs = configurations.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
     assert [c.accel for c in configs] == names.ACCELS
     assert len({c.id for c in configs}) == len(configs)
@@ -199,27 +234,33 @@ def test_accels_are_an_axis_passed_as_accel(tmp_path):
 
 def test_a_renderer_with_its_own_structure_runs_once_with_it(tmp_path):
     (own, accel), *_ = names.OWN_ACCEL.items()
-    path = _write(tmp_path, f"""
+    path = _write(
+        tmp_path,
+        f"""
         description = "x"
         scenes = ["default"]
         stages = ["optimized"]
         accels = {list(names.ACCELS)!r}
         [renderers.{own}]
         [renderers.sequential]
-    """.replace("'", '"'))
+    """.replace("'", '"'),
+    )
     configs = configurations.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
     assert [c.accel for c in configs if c.renderer == own] == [accel]
     assert sorted(c.accel for c in configs if c.renderer == "sequential") == sorted(names.ACCELS)
 
 
 def test_an_unknown_accel_is_rejected_naming_the_schemas(tmp_path):
-    path = _write(tmp_path, """
+    path = _write(
+        tmp_path,
+        """
         description = "x"
         scenes = ["default"]
         stages = ["optimized"]
         accels = ["kd-tree"]
         [renderers.sequential]
-    """)
+    """,
+    )
     with pytest.raises(ProfileError, match=f"accels must be a list, each one of {', '.join(names.ACCELS)}"):
         profiles.load_profile(str(path))
 
@@ -237,12 +278,18 @@ def _spheres(config):
 def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow_cells_small():
     profile, configs = _expand("scene-size")
     assert {_spheres(c) for c in configs} == {10, 100, 1000, 10000, 100000}
-    assert {c.variant.label for c in configs} == {"optimized"} and {(c.width, c.height) for c in configs} == {(800, 600)}
+    assert {c.variant.label for c in configs} == {"optimized"} and {(c.width, c.height) for c in configs} == {
+        (800, 600)
+    }
     for renderer in profile.renderers:
         for accel in [names.OWN_ACCEL[renderer]] if renderer in names.OWN_ACCEL else names.ACCELS:
             counts = {_spheres(c) for c in configs if c.renderer == renderer and c.accel == accel}
             assert len(counts) >= 3, (renderer, accel)
-            if not names.accepts(renderer, "lanes") and names.renders_on_cpu(renderer) and renderer not in names.OWN_ACCEL:
+            if (
+                not names.accepts(renderer, "lanes")
+                and names.renders_on_cpu(renderer)
+                and renderer not in names.OWN_ACCEL
+            ):
                 assert max(counts) <= 1000, f"scalar {renderer} stays at small N"
     largest = [(c.renderer, c.accel) for c in configs if _spheres(c) == 100000]
     assert sorted(largest) == [("embree", "bvh"), ("gpu", "bvh"), ("simd_tbb", "bvh")]

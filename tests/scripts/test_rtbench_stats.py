@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+
 from rtbench import names, noise, stats
 
 
@@ -58,11 +59,31 @@ def _frames(values_by_rep, warmup_value=100.0):
     rows = []
     for rep, values in enumerate(values_by_rep):
         for frame, v in enumerate([warmup_value, *values]):
-            rows.append({names.SCENE: "s", names.SPHERES: 3, names.RENDERER: names.reference_renderer(), names.STAGE: "optimized",
-                         names.ALGORITHM: "single-pass", names.EARLY_EXIT: "bounce", names.ACCEL: "none", names.THREADS: 1, names.LANES: 1,
-                         names.SIMD_TARGET: "", names.GRAIN: 0, names.PARTITION: "", names.WIDTH: 8, names.HEIGHT: 8, names.DEVICE: "",
-                         names.BUILD_TYPE: "Release", names.FRAME: frame, names.WARMUP: int(frame == 0),
-                         names.REPETITION: rep, names.CONFIG_ID: "c", names.RENDER_MS: v})
+            rows.append(
+                {
+                    names.SCENE: "s",
+                    names.SPHERES: 3,
+                    names.RENDERER: names.reference_renderer(),
+                    names.STAGE: "optimized",
+                    names.ALGORITHM: "single-pass",
+                    names.EARLY_EXIT: "bounce",
+                    names.ACCEL: "none",
+                    names.THREADS: 1,
+                    names.LANES: 1,
+                    names.SIMD_TARGET: "",
+                    names.GRAIN: 0,
+                    names.PARTITION: "",
+                    names.WIDTH: 8,
+                    names.HEIGHT: 8,
+                    names.DEVICE: "",
+                    names.BUILD_TYPE: "Release",
+                    names.FRAME: frame,
+                    names.WARMUP: int(frame == 0),
+                    names.REPETITION: rep,
+                    names.CONFIG_ID: "c",
+                    names.RENDER_MS: v,
+                }
+            )
     return pd.DataFrame(rows)
 
 

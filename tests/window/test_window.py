@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 import pytest
+
 from rtbench import schema
 
 EXIT_BAD_INPUT = 2
@@ -46,8 +47,12 @@ def display():
     if shutil.which("Xvfb") is None:
         pytest.fail("Xvfb is missing (Debian: apt-get install xvfb; scripts/setup-debian installs it)")
     read_end, write_end = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write_end), "-screen", "0", "640x480x24", "-nolisten", "tcp"],
-                              pass_fds=(write_end,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    server = subprocess.Popen(
+        ["Xvfb", "-displayfd", str(write_end), "-screen", "0", "640x480x24", "-nolisten", "tcp"],
+        pass_fds=(write_end,),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     os.close(write_end)
     with os.fdopen(read_end) as ready:
         number = ready.readline().strip()
@@ -166,14 +171,31 @@ class X11:
 
 
 def start_until_closed(raytracer, scene, tmp_path, display, *extra):
-    args = [raytracer, "--window", "--frames", "0", "--warmup", "0", scene, "--width", WIDTH, "--height", HEIGHT,
-            "--csv", tmp_path / "run.csv", "--vk-validation", "--quiet", *extra]
-    return subprocess.Popen(list(map(str, args)), env=env_for(display), stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    args = [
+        raytracer,
+        "--window",
+        "--frames",
+        "0",
+        "--warmup",
+        "0",
+        scene,
+        "--width",
+        WIDTH,
+        "--height",
+        HEIGHT,
+        "--csv",
+        tmp_path / "run.csv",
+        "--vk-validation",
+        "--quiet",
+        *extra,
+    ]
+    return subprocess.Popen(
+        list(map(str, args)), env=env_for(display), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
 
 
 def finish(process):
-    out, err = process.communicate(timeout=DEADLINE_S)
+    _out, err = process.communicate(timeout=DEADLINE_S)
     assert process.returncode == 0, err
     assert "vulkan warning" not in err and "vulkan error" not in err, err
     return err
@@ -182,10 +204,35 @@ def finish(process):
 @pytest.mark.parametrize("renderer", ["--gpu", "--simd"])
 def test_frames_are_presented_under_validation(windowed, repo_root, tmp_path, display, renderer):
     frames, warmup = 6, 2
-    done = subprocess.run(list(map(str, [windowed, renderer, repo_root / "scenes/default.json", "--window",
-                                         "--width", WIDTH, "--height", HEIGHT, "--warmup", warmup, "--frames", frames,
-                                         "--csv", tmp_path / "run.csv", "--vk-validation", "--quiet"])),
-                          env=env_for(display), capture_output=True, text=True, timeout=DEADLINE_S * 2)
+    done = subprocess.run(
+        list(
+            map(
+                str,
+                [
+                    windowed,
+                    renderer,
+                    repo_root / "scenes/default.json",
+                    "--window",
+                    "--width",
+                    WIDTH,
+                    "--height",
+                    HEIGHT,
+                    "--warmup",
+                    warmup,
+                    "--frames",
+                    frames,
+                    "--csv",
+                    tmp_path / "run.csv",
+                    "--vk-validation",
+                    "--quiet",
+                ],
+            )
+        ),
+        env=env_for(display),
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE_S * 2,
+    )
     assert done.returncode == 0, done.stderr
     assert "vulkan" not in done.stderr, done.stderr  # not one validation message
     rows = read_csv(tmp_path / "run.csv")
@@ -206,10 +253,36 @@ def test_frames_are_presented_under_validation(windowed, repo_root, tmp_path, di
 
 @pytest.mark.parametrize("mode", ["mailbox", "immediate"])
 def test_present_mode_asked_for_and_granted_are_recorded(windowed, repo_root, tmp_path, display, mode):
-    done = subprocess.run(list(map(str, [windowed, "--sequential", repo_root / "scenes/default.json", "--window",
-                                         "--present-mode", mode, "--width", 32, "--height", 24, "--warmup", 0,
-                                         "--frames", 3, "--csv", tmp_path / "run.csv", "--quiet"])),
-                          env=env_for(display), capture_output=True, text=True, timeout=DEADLINE_S)
+    done = subprocess.run(
+        list(
+            map(
+                str,
+                [
+                    windowed,
+                    "--sequential",
+                    repo_root / "scenes/default.json",
+                    "--window",
+                    "--present-mode",
+                    mode,
+                    "--width",
+                    32,
+                    "--height",
+                    24,
+                    "--warmup",
+                    0,
+                    "--frames",
+                    3,
+                    "--csv",
+                    tmp_path / "run.csv",
+                    "--quiet",
+                ],
+            )
+        ),
+        env=env_for(display),
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE_S,
+    )
     assert done.returncode == 0, done.stderr
     window = json.loads((tmp_path / "run.meta.json").read_text())["window"]
     assert window["present_mode"] == mode
@@ -218,11 +291,13 @@ def test_present_mode_asked_for_and_granted_are_recorded(windowed, repo_root, tm
 
 
 @pytest.mark.parametrize("renderer", ["--gpu", "--sequential"])
-def test_the_display_shows_the_saved_frame_until_sigterm_closes_the_window(windowed, repo_root, tmp_path, display,
-                                                                           renderer):
+def test_the_display_shows_the_saved_frame_until_sigterm_closes_the_window(
+    windowed, repo_root, tmp_path, display, renderer
+):
     saved = tmp_path / "frame0.png"
-    process = start_until_closed(windowed, still_scene(repo_root, tmp_path), tmp_path, display, renderer,
-                                 "--save-frame", f"0:{saved}")
+    process = start_until_closed(
+        windowed, still_scene(repo_root, tmp_path), tmp_path, display, renderer, "--save-frame", f"0:{saved}"
+    )
     try:
         window_id, _, width, height = wait_for_frames_shown(display, process)
         assert (width, height) == (WIDTH, HEIGHT), "the window has the render size"
@@ -245,8 +320,9 @@ def test_the_display_shows_the_saved_frame_until_sigterm_closes_the_window(windo
 
 def test_a_resize_makes_the_swapchain_anew_and_esc_closes(windowed, repo_root, tmp_path, display):
     saved = tmp_path / "frame0.png"
-    process = start_until_closed(windowed, still_scene(repo_root, tmp_path), tmp_path, display, "--gpu",
-                                 "--save-frame", f"0:{saved}")
+    process = start_until_closed(
+        windowed, still_scene(repo_root, tmp_path), tmp_path, display, "--gpu", "--save-frame", f"0:{saved}"
+    )
     x11 = X11(display)
     try:
         window_id = wait_for_frames_shown(display, process)[0]
@@ -270,28 +346,53 @@ def test_a_resize_makes_the_swapchain_anew_and_esc_closes(windowed, repo_root, t
 
 def test_no_display_exits_3_and_windowless_runs_go_on(windowed, repo_root, tmp_path):
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    base = [windowed, "--gpu", repo_root / "scenes/default.json", "--width", 32, "--height", 24, "--warmup", 0,
-            "--frames", 2]
-    done = subprocess.run(list(map(str, [*base, "--window", "--csv", tmp_path / "window.csv"])), env=env,
-                          capture_output=True, text=True, timeout=DEADLINE_S)
+    base = [
+        windowed,
+        "--gpu",
+        repo_root / "scenes/default.json",
+        "--width",
+        32,
+        "--height",
+        24,
+        "--warmup",
+        0,
+        "--frames",
+        2,
+    ]
+    done = subprocess.run(
+        list(map(str, [*base, "--window", "--csv", tmp_path / "window.csv"])),
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE_S,
+    )
     assert done.returncode == EXIT_NO_DEVICE, done.stderr
     assert "no window" in done.stderr and "no display" in done.stderr, done.stderr
     assert not (tmp_path / "window.csv").exists(), "nothing rendered, nothing written"
-    done = subprocess.run(list(map(str, [*base, "--csv", tmp_path / "plain.csv", "--quiet"])), env=env,
-                          capture_output=True, text=True, timeout=DEADLINE_S)
+    done = subprocess.run(
+        list(map(str, [*base, "--csv", tmp_path / "plain.csv", "--quiet"])),
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE_S,
+    )
     assert done.returncode == 0, done.stderr
     assert {r["present"] for r in read_csv(tmp_path / "plain.csv")} == {"upload"}
     assert {r["acquire_ms"] for r in read_csv(tmp_path / "plain.csv")} == {""}
 
 
-@pytest.mark.parametrize("args, option", [
-    (["--present-mode", "mailbox"], "--present-mode needs --window"),
-    (["--frames", "0"], "--frames 0 (run until the window is closed) needs --window"),
-    (["--window", "--present", "upload"], "excludes --present upload"),
-    (["--window", "--present-mode", "vsync"], "--present-mode"),
-])
+@pytest.mark.parametrize(
+    "args, option",
+    [
+        (["--present-mode", "mailbox"], "--present-mode needs --window"),
+        (["--frames", "0"], "--frames 0 (run until the window is closed) needs --window"),
+        (["--window", "--present", "upload"], "excludes --present upload"),
+        (["--window", "--present-mode", "vsync"], "--present-mode"),
+    ],
+)
 def test_window_options_without_their_window_are_bad_input(raytracer, repo_root, args, option):
-    done = subprocess.run([str(raytracer), "--sequential", str(repo_root / "scenes/default.json"), *args],
-                          capture_output=True, text=True)
+    done = subprocess.run(
+        [str(raytracer), "--sequential", str(repo_root / "scenes/default.json"), *args], capture_output=True, text=True
+    )
     assert done.returncode == EXIT_BAD_INPUT, done.stderr
     assert option in done.stderr.splitlines()[-1]
