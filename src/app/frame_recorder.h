@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "core/image.h"
-#include "gpu/device_info.h"
-#include "gpu/window_presentation.h"
+#include "gpu/present/window_presentation.h"
+#include "gpu/vulkan/device_info.h"
 #include "render/renderer.h"
 
 namespace rt {

@@ -9,7 +9,7 @@
 
 #include "gpu/gpu_test_support.h"
 #include "app/frame_loop.h"
-#include "gpu/gpu_renderer.h"
+#include "gpu/compute/gpu_renderer.h"
 #include "render/accel/accel_scenes.h"
 #include "render/cpu_renderers.h"
 #include "render/scalar/double_reference.h"

@@ -2,8 +2,8 @@
 #include <cstdint>
 #include <span>
 
-#include "gpu/gpu_layout.h"
-#include "gpu/resources.h"
+#include "gpu/compute/gpu_layout.h"
+#include "gpu/vulkan/resources.h"
 
 namespace rt::gpu {
 

@@ -1,4 +1,4 @@
-#include "gpu/gpu_layout.h"
+#include "gpu/compute/gpu_layout.h"
 
 namespace rt::gpu {
 

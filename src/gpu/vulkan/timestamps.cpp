@@ -1,4 +1,4 @@
-#include "gpu/timestamps.h"
+#include "gpu/vulkan/timestamps.h"
 
 #include <array>
 

@@ -1,4 +1,4 @@
-#include "gpu/gpu_profiler.h"
+#include "gpu/vulkan/gpu_profiler.h"
 
 namespace rt::gpu {
 

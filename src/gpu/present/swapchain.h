@@ -8,9 +8,9 @@
 #include <optional>
 #include <vector>
 
-#include "gpu/context.h"
-#include "gpu/resources.h"
-#include "gpu/window_presentation.h"
+#include "gpu/present/window_presentation.h"
+#include "gpu/vulkan/context.h"
+#include "gpu/vulkan/resources.h"
 
 namespace rt::gpu {
 

@@ -1,9 +1,9 @@
-#include "gpu/frame_upload.h"
+#include "gpu/present/frame_upload.h"
 
 #include <stdexcept>
 
-#include "gpu/context.h"
-#include "gpu/present_image.h"
+#include "gpu/present/present_image.h"
+#include "gpu/vulkan/context.h"
 
 namespace rt::gpu {
 

@@ -1,6 +1,6 @@
-#include "gpu/context.h"
+#include "gpu/vulkan/context.h"
 
-#include "gpu/device.h"
+#include "gpu/vulkan/device.h"
 
 namespace rt::gpu {
 

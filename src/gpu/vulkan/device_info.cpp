@@ -1,4 +1,4 @@
-#include "gpu/device_info.h"
+#include "gpu/vulkan/device_info.h"
 
 #include <algorithm>
 #include <array>

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "gpu/context.h"
-#include "gpu/vk.h"
+#include "gpu/vulkan/context.h"
+#include "gpu/vulkan/vk.h"
 
 namespace rt::gpu {
 

@@ -1,8 +1,8 @@
 #pragma once
 // Tracy's GPU timeline for the device's queue. With RT_TRACY=OFF the
 // TracyVk macros used here expand to nothing and the profiler holds nothing.
-#include "gpu/device.h"
-#include "gpu/resources.h"
+#include "gpu/vulkan/device.h"
+#include "gpu/vulkan/resources.h"
 
 #ifdef TRACY_ENABLE
 // The loader is opened at run time (gpu::LoaderLibrary), so Tracy must reach

@@ -1,4 +1,4 @@
-#include "gpu/gpu_renderer.h"
+#include "gpu/compute/gpu_renderer.h"
 
 #include <cstddef>
 #include <cstring>
@@ -7,13 +7,13 @@
 #include <stdexcept>
 
 #include "core/profiler.h"
-#include "gpu/context.h"
-#include "gpu/gpu_profiler.h"
-#include "gpu/gpu_layout.h"
-#include "gpu/present_image.h"
-#include "gpu/raytrace_pipeline.h"
-#include "gpu/swapchain.h"
-#include "gpu/timestamps.h"
+#include "gpu/vulkan/context.h"
+#include "gpu/vulkan/gpu_profiler.h"
+#include "gpu/compute/gpu_layout.h"
+#include "gpu/present/present_image.h"
+#include "gpu/compute/raytrace_pipeline.h"
+#include "gpu/present/swapchain.h"
+#include "gpu/vulkan/timestamps.h"
 #include "render/accel/bvh.h"
 
 namespace rt::gpu {

@@ -2,7 +2,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "gpu/device.h"
+#include "gpu/vulkan/device.h"
 
 namespace rt::gpu {
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/image.h"
-#include "gpu/device_info.h"
+#include "gpu/vulkan/device_info.h"
 #include "render/render_options.h"
 
 namespace rt::gpu {

@@ -2,8 +2,8 @@
 // on: the validation layer is live and its messages are counted.
 #include <gtest/gtest.h>
 
-#include "gpu/device.h"
-#include "gpu_test_support.h"
+#include "gpu/gpu_test_support.h"
+#include "gpu/vulkan/device.h"
 
 namespace rt::test {
 namespace {

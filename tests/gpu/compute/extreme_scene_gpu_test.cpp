@@ -4,7 +4,7 @@
 // finds finite), so no NaN or infinity reached a pixel.
 #include <gtest/gtest.h>
 
-#include "gpu/gpu_renderer.h"
+#include "gpu/compute/gpu_renderer.h"
 #include "gpu/gpu_test_support.h"
 #include "render/extreme_scenes.h"
 #include "render/cpu_renderers.h"

@@ -1,9 +1,9 @@
-#include "gpu/swapchain_upload.h"
+#include "gpu/present/swapchain_upload.h"
 
 #include <stdexcept>
 #include <vector>
 
-#include "gpu/swapchain.h"
+#include "gpu/present/swapchain.h"
 
 namespace rt::gpu {
 namespace {

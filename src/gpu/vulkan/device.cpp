@@ -1,4 +1,4 @@
-#include "gpu/device.h"
+#include "gpu/vulkan/device.h"
 
 #include <dlfcn.h>
 

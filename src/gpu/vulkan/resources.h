@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "core/image.h"
-#include "gpu/device.h"
+#include "gpu/vulkan/device.h"
 
 namespace rt::gpu {
 

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <memory>
 
-#include "gpu/frame_upload.h"
-#include "gpu_test_support.h"
+#include "gpu/gpu_test_support.h"
+#include "gpu/present/frame_upload.h"
 #include "render/cpu_renderers.h"
 #include "test_support.h"
 

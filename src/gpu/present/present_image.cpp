@@ -1,4 +1,4 @@
-#include "gpu/present_image.h"
+#include "gpu/present/present_image.h"
 
 namespace rt::gpu {
 namespace {

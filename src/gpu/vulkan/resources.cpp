@@ -1,4 +1,4 @@
-#include "gpu/resources.h"
+#include "gpu/vulkan/resources.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,14 +1,14 @@
 #pragma once
 // The Vulkan device a run uses, behind a header without Vulkan: the app and
 // the CPU renderers hold it; code in src/gpu reaches the handles through
-// device() (gpu/device.h).
+// device() (gpu/vulkan/device.h).
 #include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "gpu/device_info.h"
+#include "gpu/vulkan/device_info.h"
 
 namespace rt::gpu {
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "gpu/resources.h"
+#include "gpu/vulkan/resources.h"
 
 namespace rt::gpu {
 
