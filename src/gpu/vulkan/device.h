@@ -6,7 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "gpu/vulkan/context.h"
+#include "gpu/vulkan/context_options.h"
+#include "gpu/vulkan/device_info.h"
 #include "gpu/vulkan/vk.h"
 
 namespace rt::gpu {
