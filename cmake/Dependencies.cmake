@@ -45,7 +45,7 @@ rt_require_package(TBB libtbb-dev)
 # SIMD packets with run-time dispatch; 1.0.x API (Debian 12 ships 1.0.3).
 rt_require_package(hwy libhwy-dev)
 # Vulkan: only the headers are used at build time; the loader is opened at
-# run time (src/gpu/context.cpp), so the binary starts without it.
+# run time (src/gpu/vulkan/device.cpp), so the binary starts without it.
 rt_require_package(Vulkan libvulkan-dev)
 rt_require_program(RT_GLSLANG_VALIDATOR glslangValidator glslang-tools)
 execute_process(COMMAND "${RT_GLSLANG_VALIDATOR}" --version OUTPUT_VARIABLE _glslang_version_text ERROR_QUIET)

@@ -1,8 +1,8 @@
-// The interface between the GPU renderer (src/gpu, src/render/gpu_renderer.cpp)
+// The interface between the GPU renderer (src/gpu/compute/gpu_renderer.cpp)
 // and shaders/raytrace.comp: binding slots, specialization constant ids and
 // the workgroup size. Included by C++ and GLSL, so it holds #defines only.
 // The data layouts themselves (GPUSphere, push constants) are mirrored in
-// src/gpu/gpu_layout.h, where static_asserts pin every offset.
+// src/gpu/compute/gpu_layout.h, where static_asserts pin every offset.
 #ifndef RT_GPU_INTERFACE_H
 #define RT_GPU_INTERFACE_H
 

@@ -27,7 +27,7 @@ layout(constant_id = RT_SPEC_BVH_MAX_COORDINATE) const float BVH_MAX_COORDINATE 
 const float EPS = float(RT_HIT_EPSILON);
 
 // Inputs =====================================================================
-// Mirrored by rt::gpu::GPUSphere (src/gpu/gpu_layout.h): std430, 32 bytes,
+// Mirrored by rt::gpu::GPUSphere (src/gpu/compute/gpu_layout.h): std430, 32 bytes,
 // {vec3 position; float radius; vec3 color; float pad} byte for byte. Read
 // as two vec4s: the intersection loop then fetches each sphere with one
 // 16-byte load per invocation instead of four scalar ones (lavapipe
@@ -42,7 +42,7 @@ layout(std430, set = 0, binding = RT_BINDING_SPHERES) readonly buffer Spheres {
 };
 
 // Mirrored by rt::BvhNode (src/render/accel/bvh.h, asserted in
-// src/gpu/gpu_layout.h): 32 bytes, {vec3 lo; uint first; vec3 hi; uint meta}.
+// src/gpu/compute/gpu_layout.h): 32 bytes, {vec3 lo; uint first; vec3 hi; uint meta}.
 // Read as two uvec4s for the same one-load-per-half reason as GPUSphere;
 // uints, not floats, so that the counts and indices (denormals as floats)
 // come through untouched, and the bounds are reinterpreted as floats.

@@ -2,7 +2,7 @@
 
 #include <ostream>
 
-#include "gpu/context.h"
+#include "gpu/vulkan/context.h"
 #if RT_WINDOW
 #include "app/window_session.h"
 #endif

@@ -17,8 +17,8 @@
 #include "app/run_summary.h"
 #include "core/atomic_file.h"
 #include "core/profiler.h"
-#include "gpu/context.h"
-#include "gpu/window_presentation.h"
+#include "gpu/present/window_presentation.h"
+#include "gpu/vulkan/context.h"
 #if RT_WINDOW
 #include "app/window_session.h"
 #endif

@@ -2,9 +2,9 @@
 
 #include <stdexcept>
 
-#include "gpu/frame_upload.h"
-#include "gpu/gpu_renderer.h"
-#include "gpu/swapchain_upload.h"
+#include "gpu/compute/gpu_renderer.h"
+#include "gpu/present/frame_upload.h"
+#include "gpu/present/swapchain_upload.h"
 #include "render/cpu_renderers.h"
 
 namespace rt {

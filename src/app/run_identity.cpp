@@ -3,7 +3,7 @@
 #include <utility>
 
 #include "app/device_setup.h"
-#include "gpu/context.h"
+#include "gpu/vulkan/context.h"
 
 namespace rt {
 

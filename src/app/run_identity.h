@@ -7,7 +7,7 @@
 #include <string>
 
 #include "app/run_config.h"
-#include "gpu/device_info.h"
+#include "gpu/vulkan/device_info.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 

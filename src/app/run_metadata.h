@@ -6,7 +6,7 @@
 
 #include "app/run_config.h"
 #include "app/run_identity.h"
-#include "gpu/window_presentation.h"
+#include "gpu/present/window_presentation.h"
 #include "scene/scene.h"
 
 namespace rt {

@@ -5,7 +5,7 @@
 #include <csignal>
 #include <cstdio>
 
-#include "gpu/swapchain.h"
+#include "gpu/present/swapchain.h"
 #include "window/glfw_window.h"
 
 namespace rt {

@@ -9,8 +9,8 @@
 
 #include "app/frame_loop.h"
 #include "app/run_config.h"
-#include "gpu/context.h"
-#include "gpu/window_presentation.h"
+#include "gpu/present/window_presentation.h"
+#include "gpu/vulkan/context.h"
 
 namespace rt {
 

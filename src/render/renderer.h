@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/image.h"
+#include "render/accel/accel_structure_info.h"
 #include "render/render_options.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -14,14 +15,6 @@ namespace rt {
 class RendererUnavailable : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-// The acceleration structure prepare() built (metadata: accel_structure).
-struct AccelStructureInfo {
-  Accel kind = Accel::bvh;
-  double buildMs = 0.0;
-  std::size_t nodes = 0;
-  int depth = 0;
 };
 
 // How a renderer runs, as recorded in every CSV row and the metadata.

@@ -1,13 +1,13 @@
 #pragma once
 // The window of a --window run (GLFW, no client API: Vulkan presents into
-// it). Only the C Vulkan types appear here; the swapchain is in src/gpu.
+// it). Only the C Vulkan types appear here; the swapchain is in src/gpu/present.
 #include <vulkan/vulkan_core.h>
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "gpu/window_presentation.h"
+#include "gpu/present/window_presentation.h"
 
 namespace rt::window {
 

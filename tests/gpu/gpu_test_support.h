@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <memory>
 
-#include "gpu/context.h"
+#include "gpu/vulkan/context.h"
 #include "render/render_test_support.h"
 
 namespace rt::test {

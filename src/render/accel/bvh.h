@@ -13,7 +13,8 @@
 #include <glm/vec3.hpp>
 
 #include "bvh_layout.h"
-#include "render/renderer.h"
+#include "render/accel/accel_structure_info.h"
+#include "render/render_options.h"
 #include "scene/scene.h"
 
 namespace rt {

@@ -1,0 +1,57 @@
+#pragma once
+#include <cstdint>
+#include <span>
+
+#include "gpu/compute/gpu_layout.h"
+#include "gpu/vulkan/resources.h"
+
+namespace rt::gpu {
+
+// The SPIR-V of shaders/raytrace.comp, compiled at build time and linked
+// into the binary: nothing is looked up on disk at run time.
+std::span<const std::uint32_t> raytraceSpirv();
+
+// Workgroups needed to cover `pixels` with groups of `groupSize`: rounded
+// up, the shader skips the overhang.
+constexpr std::uint32_t workgroupCount(int pixels, int groupSize) {
+  return static_cast<std::uint32_t>((pixels + groupSize - 1) / groupSize);
+}
+
+// The compute pipeline of one variant (algorithm, bounce exit, maxDepth and
+// the BVH as specialization constants) with its set and pipeline layouts.
+class RaytracePipeline {
+ public:
+  RaytracePipeline(const Device& device, const SpecializationConstants& constants);
+
+  [[nodiscard]] const vk::raii::DescriptorSetLayout& setLayout() const { return setLayout_; }
+  // Binds the pipeline and `set`, and pushes this frame's constants.
+  void recordBind(const vk::raii::CommandBuffer& cb, vk::DescriptorSet set, const FrameConstants& constants) const;
+
+ private:
+  vk::raii::DescriptorSetLayout setLayout_;
+  vk::raii::PipelineLayout layout_;
+  vk::raii::Pipeline pipeline_;
+};
+
+// The storage buffers the shader reads. Without a BVH its two slots name
+// the sphere buffer: a descriptor must point at a live buffer, and that
+// pipeline never reads them.
+struct SceneBuffers {
+  vk::Buffer spheres;
+  vk::Buffer bvhNodes;
+  vk::Buffer bvhOrder;
+};
+
+// The descriptor set that binds the scene's buffers and an output image.
+class RaytraceBindings {
+ public:
+  RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const SceneBuffers& buffers,
+                   const DeviceImage& output);
+  [[nodiscard]] vk::DescriptorSet set() const { return *set_; }
+
+ private:
+  vk::raii::DescriptorPool pool_;
+  vk::raii::DescriptorSet set_ = nullptr;
+};
+
+}  // namespace rt::gpu
