@@ -39,7 +39,7 @@ LIBRARIES: dict[str, tuple[str, ...]] = {
     "rt_app": ("app",),
 }
 # Quoted includes that name files CMake generates in the build tree.
-GENERATED = {"rt_schema.h", "raytrace_spirv.h"}
+GENERATED = {"rt_schema.h", "rt_schema_metadata.h", "raytrace_spirv.h"}
 
 SOURCE_SUFFIXES = (".h", ".cpp", ".cc")
 QUOTED_INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
