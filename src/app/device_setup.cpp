@@ -41,4 +41,12 @@ DeviceSetup setUpDevice(const RunConfig& config, std::ostream& notes) {
   }
 }
 
+RecordedDevice recordedDevice(const DeviceSetup& setup) {
+  const gpu::Context* device = setup.present.device.get();
+  return {.present = setup.present.mode,
+          .presentReason = setup.presentReason,
+          .device = device ? std::optional(device->info()) : std::nullopt,
+          .validation = device && device->validationEnabled()};
+}
+
 }  // namespace rt

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "app/run_config.h"
+#include "app/run_identity.h"
 
 namespace rt {
 
@@ -37,5 +38,9 @@ struct DeviceSetup {
 // without --present tries one and, failing that, presents nowhere (none)
 // and writes a note to `notes`, so CPU renderers run on any machine.
 DeviceSetup setUpDevice(const RunConfig& config, std::ostream& notes);
+
+// What the run's record says of `setup`: the present mode and why, the
+// device's description and whether validation is on.
+RecordedDevice recordedDevice(const DeviceSetup& setup);
 
 }  // namespace rt

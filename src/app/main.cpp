@@ -89,7 +89,7 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
   if (config.tracyWait) waitForTracyViewer();
   renderer->prepare(scene, config.extent, config.options);
   const rt::RunIdentity identity =
-      rt::makeRunIdentity(rt::makeRunId(times.startedAt), scene, *renderer, config, setup);
+      rt::makeRunIdentity(rt::makeRunId(times.startedAt), scene, *renderer, config, rt::recordedDevice(setup));
   [[maybe_unused]] const std::string description = describeRun(identity, config);
   TracyMessage(description.data(), description.size());
   rt::LiveView* view = nullptr;

@@ -13,7 +13,15 @@
 
 namespace rt {
 
-struct DeviceSetup;
+// The Vulkan side of a run as its record states it; device_setup.h's
+// recordedDevice() fills it, so that the record needs no header of the
+// device's setup (which includes the frame loop, which includes the record).
+struct RecordedDevice {
+  PresentMode present = PresentMode::none;
+  std::string presentReason{};
+  std::optional<gpu::DeviceInfo> device{};
+  bool validation = false;
+};
 
 struct RunIdentity {
   std::string runId;
@@ -28,8 +36,8 @@ struct RunIdentity {
 };
 
 // The identity of a run of `config` on `scene` with a renderer that
-// prepare() was called on, on the device (if any) that `setup` opened.
+// prepare() was called on, on `device`.
 RunIdentity makeRunIdentity(std::string runId, const Scene& scene, const Renderer& prepared, const RunConfig& config,
-                            const DeviceSetup& setup);
+                            RecordedDevice device);
 
 }  // namespace rt
