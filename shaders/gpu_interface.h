@@ -38,11 +38,12 @@
 // The push-constant block, one MEMBER(GLSL type, name, byte offset) per
 // member: raytrace.comp declares the block from this list and
 // src/gpu/gpu_layout.h the C++ mirror (rt::gpu::FrameConstants), so the two
-// cannot differ in a name, a type or an order; the C++ side asserts each
-// offset, glslang rejects an offset the GLSL layout cannot have. The camera
-// and image size change per frame, the rest (rt::ShadingParams less
-// maxDepth, a specialization constant) per scene. Each vec3 shares its
-// 16-byte slot with a scalar.
+// cannot differ in a name, a type or an order. The shader places each
+// member at the listed offset and the C++ side asserts that it lies there
+// in the C++ struct too, so a wrong offset fails the build (glslang also
+// rejects a misaligned one). The camera and image size change per frame,
+// the rest (rt::ShadingParams less maxDepth, a specialization constant)
+// per scene. Each vec3 shares its 16-byte slot with a scalar.
 #define RT_FRAME_CONSTANTS(MEMBER) \
   MEMBER(vec3, cameraPosition, 0) \
   MEMBER(float, tanHalfFov, 12) \
