@@ -60,19 +60,21 @@ def defines_type(source: str, name: str) -> bool:
     return re.search(rf"^(?:struct|class) {name} \{{", source, re.MULTILINE) is not None
 
 
+def languages_missing(simd_name: str, glsl_and_scalar_name: str, defines) -> list[str]:
+    """The languages in which `defines` finds no definition under the step's name."""
+    wanted = [("scalar", SCALAR, glsl_and_scalar_name), ("SIMD", SIMD, simd_name), ("GLSL", GLSL, glsl_and_scalar_name)]
+    return [lang for lang, files, name in wanted if not defines(text_of(files), name)]
+
+
 @pytest.mark.parametrize(("word", "section"), FUNCTIONS)
 def test_function_has_one_name_in_every_language(word: str, section: str) -> None:
-    missing = [lang for lang, files, name in [("scalar", SCALAR, word), ("SIMD", SIMD, simd_function(word)),
-                                             ("GLSL", GLSL, word)]
-               if not defines_function(text_of(files), name)]
+    missing = languages_missing(simd_function(word), word, defines_function)
     assert not missing, f"{word} (section {section}) is not defined under its name in {missing}"
 
 
 @pytest.mark.parametrize(("word", "section"), TYPES)
 def test_type_has_one_name_in_every_language(word: str, section: str) -> None:
-    missing = [lang for lang, files, name in [("scalar", SCALAR, word), ("SIMD", SIMD, simd_type(word)),
-                                             ("GLSL", GLSL, word)]
-               if not defines_type(text_of(files), name)]
+    missing = languages_missing(simd_type(word), word, defines_type)
     assert not missing, f"{word} (section {section}) is not defined under its name in {missing}"
 
 
