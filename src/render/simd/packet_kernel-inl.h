@@ -128,19 +128,20 @@ HWY_INLINE VecF<D> Power(D d, VecF<D> x, float exponent) {
 // Phong with one directional light: ambient + diffuse + specular. Out of
 // line for the same reason as NearestHit: once per packet width.
 template <class D>
-HWY_NOINLINE Vec3x<D> LocalColor(D d, const ShadingParams& f, const RaycastHitX<D>& hit, const Vec3x<D>& direction) {
-  const Vec3x<D> l = Broadcast(d, f.toLight);
-  const Vec3x<D> lightColor = Broadcast(d, f.lightColor);
+HWY_NOINLINE Vec3x<D> LocalColor(D d, const ShadingParams& shading, const RaycastHitX<D>& hit,
+                                 const Vec3x<D>& direction) {
+  const Vec3x<D> l = Broadcast(d, shading.toLight);
+  const Vec3x<D> lightColor = Broadcast(d, shading.lightColor);
   const Vec3x<D>& n = hit.normal;
   const Vec3x<D> minusL = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - l;
-  const Vec3x<D> ambient = Broadcast(d, f.ambientColor) * hit.sphereColor;
+  const Vec3x<D> ambient = Broadcast(d, shading.ambientColor) * hit.sphereColor;
   const Vec3x<D> diffuse = (hn::Max(Dot(n, l), hn::Zero(d)) * lightColor) * hit.sphereColor;
   const Vec3x<D> rr = minusL - (hn::Set(d, 2.0f) * Dot(minusL, n)) * n;  // reflect(-l, n)
   const Vec3x<D> minusD = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - direction;
   // Clamped to [0, 1] as in the scalar model (docs/render-model.md section 4).
   const VecF<D> cosine = hn::Min(hn::Max(Dot(rr, minusD), hn::Zero(d)), hn::Set(d, 1.0f));
-  const VecF<D> highlight = Power(d, cosine, f.shininess);
-  return ambient + diffuse + (hn::Set(d, f.specularStrength) * highlight) * lightColor;
+  const VecF<D> highlight = Power(d, cosine, shading.shininess);
+  return ambient + diffuse + (hn::Set(d, shading.specularStrength) * highlight) * lightColor;
 }
 
 // The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
@@ -158,10 +159,10 @@ HWY_INLINE RayX<D> ReflectedRay(D d, const RayX<D>& ray, const RaycastHitX<D>& h
 // colour, its colour filters the throughput, and the ray reflects. The
 // other lanes' throughput and ray become junk; they are not active again.
 template <class D>
-HWY_INLINE void ShadeBounce(D d, const ShadingParams& f, const RaycastHitX<D>& hit, RayX<D>& ray, Vec3x<D>& color,
-                            Vec3x<D>& throughput) {
-  color = Select(hit.hit, color + throughput * LocalColor(d, f, hit, ray.direction), color);
-  throughput = throughput * (hn::Set(d, f.reflectivity) * hit.sphereColor);
+HWY_INLINE void ShadeBounce(D d, const ShadingParams& shading, const RaycastHitX<D>& hit, RayX<D>& ray,
+                            Vec3x<D>& color, Vec3x<D>& throughput) {
+  color = Select(hit.hit, color + throughput * LocalColor(d, shading, hit, ray.direction), color);
+  throughput = throughput * (hn::Set(d, shading.reflectivity) * hit.sphereColor);
   ray = ReflectedRay(d, ray, hit);
 }
 
@@ -251,10 +252,10 @@ class PathSegmentStore {
 // One step of the backward pass: the light gathered behind segment `s`
 // (`acc`) seen through it, or the background where the lane missed.
 template <class D>
-HWY_INLINE Vec3x<D> FoldSegment(D d, const ShadingParams& f, const Vec3x<D>& acc, const PathSegmentX<D>& s) {
+HWY_INLINE Vec3x<D> FoldSegment(D d, const ShadingParams& shading, const Vec3x<D>& acc, const PathSegmentX<D>& s) {
   const Vec3x<D> lit =
-      (hn::Set(d, f.reflectivity) * acc) * s.hit.sphereColor + LocalColor(d, f, s.hit, s.ray.direction);
-  return Select(s.hit.hit, lit, Broadcast(d, f.background));
+      (hn::Set(d, shading.reflectivity) * acc) * s.hit.sphereColor + LocalColor(d, shading, s.hit, s.ray.direction);
+  return Select(s.hit.hit, lit, Broadcast(d, shading.background));
 }
 
 // Two-pass (the thesis' original): the forward pass stores every segment,
