@@ -4,6 +4,7 @@
 // shader, one invocation per pixel. It mirrors src/render/scalar/scalar_model.h
 // function by function, in the same operation order, so that the GPU image
 // agrees with the sequential renderer (docs/render-model.md section 8). Change both together.
+// The functions carry the scalar kernel's names (docs/render-model.md section 9).
 
 #include "bvh_layout.h"
 #include "gpu_interface.h"
@@ -61,30 +62,21 @@ layout(std430, set = 0, binding = RT_BINDING_BVH_ORDER) readonly buffer BvhOrder
 
 layout(rgba8, set = 0, binding = RT_BINDING_OUTPUT) uniform writeonly image2D outputImage;
 
-// Mirrored by rt::gpu::FrameConstants: everything that may change per frame,
-// in exactly RT_PUSH_CONSTANT_BYTES bytes. Each vec3 shares its 16-byte slot
-// with a scalar.
+// The push constants: the camera and the image size per frame, the scene's
+// shading parameters and sphere count. Declared from the member list that
+// also declares the C++ mirror rt::gpu::FrameConstants (gpu_interface.h).
+#define RT_GLSL_MEMBER(type, name, at) layout(offset = at) type name;
 layout(push_constant, std430) uniform FrameConstants {
-  layout(offset = 0) vec3 cameraPosition;
-  layout(offset = 12) float tanHalfFov;
-  layout(offset = 16) vec3 cameraForward;
-  layout(offset = 28) int width;
-  layout(offset = 32) vec3 cameraRight;
-  layout(offset = 44) int height;
-  layout(offset = 48) vec3 cameraUp;
-  layout(offset = 60) uint sphereCount;
-  layout(offset = 64) vec3 toLight;  // -directionalLightDirection
-  layout(offset = 76) float reflectivity;
-  layout(offset = 80) vec3 lightColor;
-  layout(offset = 92) float shininess;
-  layout(offset = 96) vec3 ambientColor;
-  layout(offset = 108) float specularStrength;
-  layout(offset = 112) vec3 background;
-  layout(offset = 124) float unused;
+  RT_FRAME_CONSTANTS(RT_GLSL_MEMBER)
 } pc;
 
 // Intersection (docs/render-model.md section 3) ==============================================
-struct Hit {
+struct Ray {
+  vec3 origin;
+  vec3 direction;  // unit
+};
+
+struct RaycastHit {
   vec3 position;
   vec3 normal;
   int sphere;  // -1 for a miss
@@ -92,10 +84,10 @@ struct Hit {
 
 // Distance along the ray to one sphere (xyz: centre, w: radius), or a
 // value <= EPS for no hit, with the cancellation-free discriminant.
-float intersectSphere(vec3 origin, vec3 direction, vec4 sphere) {
-  vec3 oc = origin - sphere.xyz;
-  float b = dot(oc, direction);
-  vec3 f = oc - b * direction;
+float intersectSphere(Ray ray, vec4 sphere) {
+  vec3 oc = ray.origin - sphere.xyz;
+  float b = dot(oc, ray.direction);
+  vec3 f = oc - b * ray.direction;
   float r = sphere.w;
   float disc = r * r - dot(f, f);
   if (disc < 0.0) return -1.0;
@@ -106,33 +98,33 @@ float intersectSphere(vec3 origin, vec3 direction, vec4 sphere) {
 }
 
 // The hit record of sphere `index` at distance `t` (or a miss for index -1).
-Hit hitRecord(vec3 origin, vec3 direction, float t, int index) {
-  Hit hit;
+RaycastHit hitRecord(Ray ray, float t, int index) {
+  RaycastHit hit;
   hit.sphere = index;
   hit.position = vec3(0.0);
   hit.normal = vec3(0.0);
   if (index >= 0) {
     vec4 s = spheres[index].positionRadius;
-    hit.position = origin + t * direction;
+    hit.position = ray.origin + t * ray.direction;
     hit.normal = (hit.position - s.xyz) / s.w;
     // docs/render-model.md section 4: a ray leaving the sphere sees its inside.
-    if (dot(direction, hit.normal) > 0.0) hit.normal = -hit.normal;
+    if (dot(ray.direction, hit.normal) > 0.0) hit.normal = -hit.normal;
   }
   return hit;
 }
 
 // Brute force: the nearest hit over all spheres; on an exact tie the lower index wins.
-Hit nearestHitOfAll(vec3 origin, vec3 direction) {
+RaycastHit nearestHitOfAll(Ray ray) {
   float best = 1.0 / 0.0;  // +infinity
   int bestIndex = -1;
   for (uint i = 0u; i < pc.sphereCount; ++i) {
-    float t = intersectSphere(origin, direction, spheres[i].positionRadius);
+    float t = intersectSphere(ray, spheres[i].positionRadius);
     if (t > EPS && t < best) {
       best = t;
       bestIndex = int(i);
     }
   }
-  return hitRecord(origin, direction, best, bestIndex);
+  return hitRecord(ray, best, bestIndex);
 }
 
 // rt::traversalPad (src/render/accel/bvh.h) for this ray's origin: how far
@@ -157,9 +149,9 @@ vec3 inverseDirection(vec3 d) {
 
 // Whether the ray may meet a sphere inside the node's box, widened by
 // `pad`, nearer than `best` (+ pad): the CPU kernels' slab test.
-bool boxReachable(GPUBvhNode node, vec3 origin, vec3 inverse, float pad, float best) {
-  vec3 t0 = (uintBitsToFloat(node.loFirst.xyz) - pad - origin) * inverse;
-  vec3 t1 = (uintBitsToFloat(node.hiMeta.xyz) + pad - origin) * inverse;
+bool boxReachable(GPUBvhNode node, Ray ray, vec3 inverse, float pad, float best) {
+  vec3 t0 = (uintBitsToFloat(node.loFirst.xyz) - pad - ray.origin) * inverse;
+  vec3 t1 = (uintBitsToFloat(node.hiMeta.xyz) + pad - ray.origin) * inverse;
   vec3 near = min(t0, t1);
   vec3 far = max(t0, t1);
   float tmin = max(max(near.x, near.y), near.z);
@@ -172,9 +164,9 @@ bool boxReachable(GPUBvhNode node, vec3 origin, vec3 inverse, float pad, float b
 // so an exact tie is settled by the index rather than by the visit order.
 // Near child first, a fixed stack: a node pops before its two children
 // push, so depth + 1 entries suffice.
-Hit nearestHitInBvh(vec3 origin, vec3 direction) {
-  vec3 inverse = inverseDirection(direction);
-  float pad = traversalPad(origin);
+RaycastHit nearestHitInBvh(Ray ray) {
+  vec3 inverse = inverseDirection(ray.direction);
+  float pad = traversalPad(ray.origin);
   float best = 1.0 / 0.0;  // +infinity
   int bestIndex = -1;
   uint stack[RT_BVH_MAX_DEPTH + 2];
@@ -182,34 +174,34 @@ Hit nearestHitInBvh(vec3 origin, vec3 direction) {
   stack[top++] = 0u;
   while (top > 0) {
     GPUBvhNode node = bvhNodes[stack[--top]];
-    if (!boxReachable(node, origin, inverse, pad, best)) continue;
+    if (!boxReachable(node, ray, inverse, pad, best)) continue;
     uint first = node.loFirst.w;
     uint count = node.hiMeta.w & RT_BVH_COUNT_MASK;
     if (count == 0u) {
-      bool negative = direction[node.hiMeta.w >> 30] < 0.0;
+      bool negative = ray.direction[node.hiMeta.w >> 30] < 0.0;
       stack[top++] = first + (negative ? 0u : 1u);  // far child
       stack[top++] = first + (negative ? 1u : 0u);  // near child, visited next
       continue;
     }
     for (uint k = first; k < first + count; ++k) {
       int index = int(bvhOrder[k]);
-      float t = intersectSphere(origin, direction, spheres[index].positionRadius);
+      float t = intersectSphere(ray, spheres[index].positionRadius);
       if (t > EPS && (t < best || (t == best && index < bestIndex))) {
         best = t;
         bestIndex = index;
       }
     }
   }
-  return hitRecord(origin, direction, best, bestIndex);
+  return hitRecord(ray, best, bestIndex);
 }
 
 // The one spatial query of the shader; the variant is fixed per pipeline.
-Hit nearestHit(vec3 origin, vec3 direction) {
-  return USE_BVH ? nearestHitInBvh(origin, direction) : nearestHitOfAll(origin, direction);
+RaycastHit nearestHit(Ray ray) {
+  return USE_BVH ? nearestHitInBvh(ray) : nearestHitOfAll(ray);
 }
 
 // Shading (docs/render-model.md section 4) ===================================================
-vec3 localColor(Hit hit, vec3 direction, vec3 sphereColor) {
+vec3 localColor(RaycastHit hit, vec3 direction, vec3 sphereColor) {
   vec3 n = hit.normal;
   vec3 l = pc.toLight;
   vec3 ambient = pc.ambientColor * sphereColor;
@@ -222,19 +214,28 @@ vec3 localColor(Hit hit, vec3 direction, vec3 sphereColor) {
 }
 
 // The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
-void reflectRay(inout vec3 origin, inout vec3 direction, Hit hit) {
-  vec3 d = direction;
+Ray reflectedRay(Ray ray, RaycastHit hit) {
+  vec3 d = ray.direction;
   vec3 n = hit.normal;
-  origin = hit.position + n * EPS;
-  direction = normalize(d - 2.0 * dot(d, n) * n);
+  return Ray(hit.position + n * EPS, normalize(d - 2.0 * dot(d, n) * n));
 }
 
 // The two algorithms (docs/render-model.md section 5) ========================================
-vec3 traceSinglePass(vec3 origin, vec3 direction) {
+
+// A single-pass bounce that hit a sphere: its light joins the colour, its
+// colour filters the throughput, and the ray reflects.
+void shadeBounce(RaycastHit hit, inout Ray ray, inout vec3 color, inout vec3 throughput) {
+  vec3 sphereColor = spheres[hit.sphere].colorPad.rgb;
+  color += throughput * localColor(hit, ray.direction, sphereColor);
+  throughput *= pc.reflectivity * sphereColor;
+  ray = reflectedRay(ray, hit);
+}
+
+vec3 traceSinglePass(Ray ray) {
   vec3 color = vec3(0.0);
   vec3 throughput = vec3(1.0);
   for (int depth = 0; depth < MAX_DEPTH; ++depth) {
-    Hit hit = nearestHit(origin, direction);
+    RaycastHit hit = nearestHit(ray);
     if (hit.sphere < 0) {
       color += throughput * pc.background;
       if (BOUNCE_EXIT) break;
@@ -242,27 +243,31 @@ vec3 traceSinglePass(vec3 origin, vec3 direction) {
       throughput = vec3(0.0);
       continue;
     }
-    vec3 sphereColor = spheres[hit.sphere].colorPad.rgb;
-    color += throughput * localColor(hit, direction, sphereColor);
-    throughput *= pc.reflectivity * sphereColor;
-    reflectRay(origin, direction, hit);
+    shadeBounce(hit, ray, color, throughput);
   }
   return color;
 }
 
 // One stored segment of the forward pass: what the backward pass reads.
 struct PathSegment {
-  vec3 direction;
-  Hit hit;
+  Ray ray;
+  RaycastHit hit;
   vec3 sphereColor;
 };
 
-vec3 traceTwoPass(vec3 origin, vec3 direction) {
+// One step of the backward pass: the light gathered behind segment `s`
+// (`acc`) seen through it.
+vec3 foldSegment(vec3 acc, PathSegment s) {
+  if (s.hit.sphere < 0) return pc.background;
+  return acc * pc.reflectivity * s.sphereColor + localColor(s.hit, s.ray.direction, s.sphereColor);
+}
+
+vec3 traceTwoPass(Ray ray) {
   PathSegment segments[MAX_DEPTH];
   int count = 0;
   for (; count < MAX_DEPTH; ++count) {
-    segments[count].direction = direction;
-    segments[count].hit = nearestHit(origin, direction);
+    segments[count].ray = ray;
+    segments[count].hit = nearestHit(ray);
     segments[count].sphereColor = vec3(0.0);
     if (segments[count].hit.sphere < 0) {
       if (BOUNCE_EXIT) {
@@ -272,17 +277,10 @@ vec3 traceTwoPass(vec3 origin, vec3 direction) {
       continue;  // a segment after a miss is a miss: the ray stays as it was
     }
     segments[count].sphereColor = spheres[segments[count].hit.sphere].colorPad.rgb;
-    reflectRay(origin, direction, segments[count].hit);
+    ray = reflectedRay(ray, segments[count].hit);
   }
   vec3 acc = vec3(0.0);
-  for (int i = count - 1; i >= 0; --i) {
-    if (segments[i].hit.sphere >= 0) {
-      acc = acc * pc.reflectivity * segments[i].sphereColor +
-            localColor(segments[i].hit, segments[i].direction, segments[i].sphereColor);
-    } else {
-      acc = pc.background;
-    }
-  }
+  for (int i = count - 1; i >= 0; --i) acc = foldSegment(acc, segments[i]);
   return acc;
 }
 
@@ -296,6 +294,11 @@ vec3 primaryRayDirection(ivec2 pixel) {
   return pc.cameraForward + u * pc.cameraRight + v * pc.cameraUp;
 }
 
+// The camera ray through the pixel's centre.
+Ray primaryRay(ivec2 pixel) {
+  return Ray(pc.cameraPosition, normalize(primaryRayDirection(pixel)));
+}
+
 // Clamp and round(255 c) here, so that the value stored is k / 255 exactly
 // and the rgba8 conversion cannot round differently from the CPU renderers.
 vec4 toRgba8(vec3 c) {
@@ -306,8 +309,7 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   // The grid is rounded up to whole workgroups: skip the overhang.
   if (pixel.x >= pc.width || pixel.y >= pc.height) return;
-  vec3 origin = pc.cameraPosition;
-  vec3 direction = normalize(primaryRayDirection(pixel));
-  vec3 color = TWO_PASS ? traceTwoPass(origin, direction) : traceSinglePass(origin, direction);
+  Ray ray = primaryRay(pixel);
+  vec3 color = TWO_PASS ? traceTwoPass(ray) : traceSinglePass(ray);
   imageStore(outputImage, pixel, toRgba8(color));
 }

@@ -8,18 +8,15 @@
 #include <memory>
 #include <stdexcept>
 
+#include "render/cpu_contracts.h"
 #include "render/frame_sink.h"
 #include "render/renderer.h"
 
 namespace rt {
 
-// Kernel: kId, lanes(), simdTarget(), alignment(), accelStructure(),
-// prepare(scene, options, slots), beginFrame(camera, image),
-// renderSpan(slot, y, x0, x1).
-// Scheduler: kId, threads(), grain(), partition(),
-// forEachSpan(extent, alignment, body(slot, y, x0, x1)).
+// The contracts of both halves are the concepts of render/cpu_contracts.h.
 // The per-span call is a template, inlined: no virtual call in the frame.
-template <class Kernel, class Scheduler>
+template <CpuKernel Kernel, SpanScheduler Scheduler>
 class CpuRenderer final : public Renderer {
  public:
   static constexpr RendererKind kKind = rendererFor(Kernel::kId, Scheduler::kId);

@@ -21,6 +21,22 @@ constexpr long long kFrames[] = {0, 30};
 constexpr long long kFrame = 30;
 
 RenderOptions options(Algorithm algorithm, EarlyExitSet exits) { return {algorithm, exits}; }
+
+// The contracts of render/cpu_contracts.h tell the halves apart: each
+// kernel and scheduler header asserts its own, these that they can fail.
+static_assert(!CpuKernel<SerialScheduler>);
+static_assert(!SpanScheduler<ScalarKernel>);
+struct KernelWithoutAlignment {
+  static constexpr Kernel kId = Kernel::scalar;
+  explicit KernelWithoutAlignment(const ParallelSettings&) {}
+  [[nodiscard]] int lanes() const { return 1; }
+  [[nodiscard]] std::string simdTarget() const { return {}; }
+  [[nodiscard]] std::optional<AccelStructureInfo> accelStructure() const { return std::nullopt; }
+  void prepare(const Scene&, const RenderOptions&, int) {}
+  void beginFrame(const CameraFrame&, Image&) {}
+  void renderSpan(int, int, int, int) {}
+};
+static_assert(!CpuKernel<KernelWithoutAlignment>);
 const EarlyExitSet kBounceOnly = optionsForStage(Stage::single_pass).earlyExits;
 
 class PerScene : public ::testing::TestWithParam<const char*> {

@@ -1,5 +1,6 @@
 // The extremes inside the scene limits (docs/render-model.md section 1,
-// Limits; issue 14): no NaN or infinity reaches a pixel. The renderers
+// Limits; section 4 on the clamped highlight and the normal facing the
+// ray): no NaN or infinity reaches a pixel. The renderers
 // quantise to 8 bits, where a NaN becomes an arbitrary byte, so the scalar
 // model is checked before quantisation (every colour finite), and every
 // other renderer's picture against the sequential renderer's.
@@ -26,7 +27,7 @@ constexpr long long kFrames[] = {0, 30};
 bool finite(const kernel::Vec3<float>& c) { return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z); }
 
 kernel::Ray<float> primaryRay(const CameraFrame& camera, int x, int y) {
-  return {camera.position, glm::normalize(primaryRayDirection<float>(camera, kExtremeExtent, x, y))};
+  return kernel::primaryRay<float>(camera, kExtremeExtent, x, y);
 }
 
 // The float colour of every pixel, before clamping and quantisation, with
@@ -37,8 +38,7 @@ TEST(ScalarModel, ExtremeScenesGiveFiniteColoursBeforeQuantisation) {
     // The BVH finds the nearest hit brute force finds (tested in
     // tests/render/accel/), in a fraction of the time on 100,000 spheres.
     const Bvh bvh = buildBvh(scene.spheres);
-    auto in = kernel::ShadingInputs<float>::from(scene);
-    in.bvh = &bvh;
+    const auto in = kernel::ShadingInputs<float>::from(scene, &bvh);
     for (const long long frame : kFrames) {
       if (frame != 0 && !scene.camera.orbits()) continue;  // the same picture
       const CameraFrame camera = cameraAtFrame(scene.camera, frame);
@@ -46,9 +46,9 @@ TEST(ScalarModel, ExtremeScenesGiveFiniteColoursBeforeQuantisation) {
       for (int y = 0; y < kExtremeExtent.height; ++y) {
         for (int x = 0; x < kExtremeExtent.width; ++x) {
           const kernel::Ray<float> ray = primaryRay(camera, x, y);
-          nonFinite += finite(kernel::traceSinglePass<float, true>(in, ray)) ? 0 : 1;
-          nonFinite += finite(kernel::traceSinglePass<float, false>(in, ray)) ? 0 : 1;
-          nonFinite += finite(kernel::traceTwoPass<float, false>(in, ray, segments)) ? 0 : 1;
+          nonFinite += finite(kernel::traceSinglePass<float, true, Accel::bvh>(in, ray)) ? 0 : 1;
+          nonFinite += finite(kernel::traceSinglePass<float, false, Accel::bvh>(in, ray)) ? 0 : 1;
+          nonFinite += finite(kernel::traceTwoPass<float, false, Accel::bvh>(in, ray, segments)) ? 0 : 1;
         }
       }
       EXPECT_EQ(nonFinite, 0) << name << " frame " << frame;
@@ -62,8 +62,8 @@ TEST(ScalarModel, TheSmallestSphereIsHitByTheMiddlePixel) {
   {
     const Scene scene = test::extremeScene("radius-1e-6");
     const CameraFrame camera = cameraAtFrame(scene.camera, 0);
-    const auto hit = kernel::nearestHit(primaryRay(camera, kExtremeExtent.width / 2, kExtremeExtent.height / 2),
-                                        std::span<const Sphere>(scene.spheres), nullptr);
+    const auto hit = kernel::nearestHitOfAll(primaryRay(camera, kExtremeExtent.width / 2, kExtremeExtent.height / 2),
+                                             std::span<const Sphere>(scene.spheres));
     EXPECT_EQ(hit.sphere, 0);
     EXPECT_TRUE(finite(hit.normal));
   }

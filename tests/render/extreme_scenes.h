@@ -3,7 +3,8 @@
 // Limits): a radius of 1e6 around the camera, spheres at +-1e6, spheres of
 // radius 1e-6 (one straight ahead of the camera, so a ray really hits it),
 // and 100,000 small spheres. Each renderer must keep NaN and infinity out of
-// the picture on them (issue 14). Built through the loader, so each is a
+// the picture on them (docs/render-model.md section 4: the clamped
+// highlight, the normal facing the ray). Built through the loader, so each is a
 // scene a user could write.
 #include <cstdint>
 #include <string>

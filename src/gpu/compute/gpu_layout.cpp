@@ -9,25 +9,22 @@ std::vector<GPUSphere> toGpuSpheres(std::span<const Sphere> spheres) {
   return out;
 }
 
-FrameConstants makeFrameConstants(const Scene& scene, const CameraFrame& camera, Extent extent) {
-  const LightData& light = scene.lightData;
-  const RenderParams& render = scene.render;
-  return {.cameraPosition = camera.position,
-          .tanHalfFov = camera.tanHalfFov,
-          .cameraForward = camera.forward,
-          .width = extent.width,
-          .cameraRight = camera.right,
-          .height = extent.height,
-          .cameraUp = camera.up,
-          .sphereCount = static_cast<std::uint32_t>(scene.spheres.size()),
-          // Negated here as the C++ kernel does (ShadingInputs::from): exact in float.
-          .toLight = -light.directionalLightDirection,
-          .reflectivity = render.reflectivity,
-          .lightColor = light.directionalLightColor,
-          .shininess = render.shininess,
-          .ambientColor = light.ambientLightColor,
-          .specularStrength = render.specularStrength,
-          .background = render.background};
+// Every shading parameter but maxDepth (a specialization constant) is a
+// push constant: a new one must be added here and to RT_FRAME_CONSTANTS.
+static_assert(sizeof(ShadingParams) == 4 * sizeof(glm::vec3) + 3 * sizeof(float) + sizeof(int),
+              "a shading parameter was added: pass it to the shader");
+
+FrameConstants makeFrameConstants(const ShadingParams& shading, std::uint32_t sphereCount, const CameraFrame& camera,
+                                  Extent extent) {
+  // One line per 16-byte slot of the block.
+  return {.cameraPosition = camera.position, .tanHalfFov = camera.tanHalfFov,
+          .cameraForward = camera.forward, .width = extent.width,
+          .cameraRight = camera.right, .height = extent.height,
+          .cameraUp = camera.up, .sphereCount = sphereCount,
+          .toLight = shading.toLight, .reflectivity = shading.reflectivity,
+          .lightColor = shading.lightColor, .shininess = shading.shininess,
+          .ambientColor = shading.ambientColor, .specularStrength = shading.specularStrength,
+          .background = shading.background, .unused = 0.0f};
 }
 
 }  // namespace rt::gpu

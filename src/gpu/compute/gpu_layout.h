@@ -10,6 +10,7 @@
 
 #include "gpu_interface.h"
 #include "render/accel/bvh.h"
+#include "render/shading_params.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 
@@ -42,45 +43,23 @@ static_assert(offsetof(BvhNode, hi) == 16);
 static_assert(offsetof(BvhNode, meta) == 28);
 static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t));
 
-// The push-constant block: camera, light, sphere count, image size and
-// shading parameters, all of which may change from frame to frame. Each vec3
-// shares its 16-byte slot with a scalar, so the block fits the 128 bytes
-// every Vulkan device guarantees.
+// The push-constant block, declared from the member list the shader
+// declares its block from (RT_FRAME_CONSTANTS, shaders/gpu_interface.h):
+// the GLSL type names stand for their C++ twins here.
+using vec3 = glm::vec3;
+using uint = std::uint32_t;
+static_assert(sizeof(int) == 4 && sizeof(float) == 4, "GLSL's int and float are 32 bits");
+
+#define RT_CPP_MEMBER(type, name, at) type name;
 struct FrameConstants {
-  glm::vec3 cameraPosition;
-  float tanHalfFov;
-  glm::vec3 cameraForward;
-  std::int32_t width;
-  glm::vec3 cameraRight;
-  std::int32_t height;
-  glm::vec3 cameraUp;
-  std::uint32_t sphereCount;
-  glm::vec3 toLight;  // -directionalLightDirection
-  float reflectivity;
-  glm::vec3 lightColor;
-  float shininess;
-  glm::vec3 ambientColor;
-  float specularStrength;
-  glm::vec3 background;
-  float unused = 0.0f;
+  RT_FRAME_CONSTANTS(RT_CPP_MEMBER)
 };
+#undef RT_CPP_MEMBER
 static_assert(sizeof(FrameConstants) == RT_PUSH_CONSTANT_BYTES);
-static_assert(offsetof(FrameConstants, cameraPosition) == 0);
-static_assert(offsetof(FrameConstants, tanHalfFov) == 12);
-static_assert(offsetof(FrameConstants, cameraForward) == 16);
-static_assert(offsetof(FrameConstants, width) == 28);
-static_assert(offsetof(FrameConstants, cameraRight) == 32);
-static_assert(offsetof(FrameConstants, height) == 44);
-static_assert(offsetof(FrameConstants, cameraUp) == 48);
-static_assert(offsetof(FrameConstants, sphereCount) == 60);
-static_assert(offsetof(FrameConstants, toLight) == 64);
-static_assert(offsetof(FrameConstants, reflectivity) == 76);
-static_assert(offsetof(FrameConstants, lightColor) == 80);
-static_assert(offsetof(FrameConstants, shininess) == 92);
-static_assert(offsetof(FrameConstants, ambientColor) == 96);
-static_assert(offsetof(FrameConstants, specularStrength) == 108);
-static_assert(offsetof(FrameConstants, background) == 112);
-static_assert(offsetof(FrameConstants, unused) == 124);
+// Each member where the list (and so the shader) puts it.
+#define RT_CPP_OFFSET(type, name, at) static_assert(offsetof(FrameConstants, name) == (at), #name);
+RT_FRAME_CONSTANTS(RT_CPP_OFFSET)
+#undef RT_CPP_OFFSET
 
 // The specialization constants of one pipeline variant.
 struct SpecializationConstants {
@@ -94,7 +73,9 @@ struct SpecializationConstants {
 
 std::vector<GPUSphere> toGpuSpheres(std::span<const Sphere> spheres);
 
-// Frame constants of one frame: the scene's light and shading, the frame's camera.
-FrameConstants makeFrameConstants(const Scene& scene, const CameraFrame& camera, Extent extent);
+// Frame constants of one frame: the scene's shading parameters (built once
+// per scene) and sphere count, the frame's camera and the image size.
+FrameConstants makeFrameConstants(const ShadingParams& shading, std::uint32_t sphereCount, const CameraFrame& camera,
+                                  Extent extent);
 
 }  // namespace rt::gpu

@@ -92,6 +92,7 @@ struct GPURenderer::DeviceObjects {
 struct GPURenderer::SceneObjects {
   SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& options, PresentMode mode)
       : scene(s),
+        shading(shadingParamsOf(s)),
         extent(e),
         accel(accelFor(s, options)),
         pipeline(d.device, specializationFor(s, options, accel.bvh())),
@@ -105,6 +106,7 @@ struct GPURenderer::SceneObjects {
   }
 
   const Scene& scene;
+  ShadingParams shading;  // the push constants' scene part, built once per scene
   Extent extent;
   AccelStructure accel;  // the BVH with --accel bvh; its bounds went into the pipeline
   RaytracePipeline pipeline;
@@ -177,7 +179,8 @@ GPURenderer::SceneObjects& GPURenderer::prepared() {
 
 void GPURenderer::render(const CameraFrame& camera) {
   SceneObjects& s = prepared();
-  const FrameConstants constants = makeFrameConstants(s.scene, camera, s.extent);
+  const FrameConstants constants =
+      makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
   const DispatchTimer& timer = device_->timer;
   [[maybe_unused]] const GpuProfiler& profiler = device_->profiler;
   translateVulkanErrors("render", [&] {

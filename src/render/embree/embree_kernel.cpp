@@ -141,12 +141,11 @@ Vec3<float> colorOf(const FrameData& f, int sphere) {
 // traces only its own pixels.
 template <int W>
 void startPacket(const FrameData& f, Slot& s, int y, int x, int count) {
-  const Vec3<float> origin(f.camera.position);
   const Extent extent = f.image->extent();
   for (int i = 0; i < W; ++i) {
     Lane& lane = s.lanes[static_cast<std::size_t>(i)];
     const int px = x + std::min(i, count - 1);
-    lane.ray = {origin, glm::normalize(primaryRayDirection<float>(f.camera, extent, px, y))};
+    lane.ray = kernel::primaryRay<float>(f.camera, extent, px, y);
     lane.color = Vec3<float>(0);
     lane.throughput = Vec3<float>(1);
     lane.segments = 0;
@@ -271,7 +270,8 @@ void EmbreeKernel::prepare(const Scene& scene, const RenderOptions& options, int
                          ? static_cast<std::size_t>(scene.render.maxDepth) * static_cast<std::size_t>(lanes_)
                          : 0;
   segments_.assign(slotCount * segmentsPerSlot_, PathSegment<float>{});
-  visitScalarVariant(options, [&]<Algorithm kAlgorithm, bool kBounceExit>() {
+  // Embree walks its own BVH whatever the accel variant (the schema's own_accel).
+  visitScalarVariant(options, [&]<Algorithm kAlgorithm, bool kBounceExit, Accel>() {
     span_ = spanFor<kAlgorithm, kBounceExit>(lanes_);
   });
 }

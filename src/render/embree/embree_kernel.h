@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "render/cpu_contracts.h"
 #include "render/embree/embree_api.h"
 #include "render/render_options.h"
 #include "render/renderer.h"
@@ -103,8 +104,9 @@ class EmbreeKernel {
   // A span starts at a multiple of the packet width, so --partition tiles
   // never splits a packet.
   [[nodiscard]] int alignment() const { return lanes_; }
-  // Embree always traverses its own BVH; --accel names our structures and
-  // does not apply here, so there is none of ours to report.
+  // Embree always traverses its own BVH (the schema's own_accel: the CLI
+  // records accel bvh and refuses --accel none); ours is never built for
+  // it, so there is none of ours to report.
   [[nodiscard]] std::optional<AccelStructureInfo> accelStructure() const { return std::nullopt; }
 
   // Builds and commits Embree's scene over the spheres (its BVH build runs
@@ -135,5 +137,6 @@ class EmbreeKernel {
   std::vector<kernel::PathSegment<float>> segments_;
   std::size_t segmentsPerSlot_ = 0;
 };
+static_assert(CpuKernel<EmbreeKernel>);
 
 }  // namespace rt

@@ -8,9 +8,11 @@ Image renderDoubleReference(const Scene& scene, const CameraFrame& camera, Exten
                             const RenderOptions& options) {
   Image image(extent);
   const auto inputs = kernel::ShadingInputs<double>::from(scene);
-  visitScalarVariant(options, [&]<Algorithm kAlgorithm, bool kBounce>() {
+  // Brute force whatever --accel says: the reference is the model itself,
+  // and docs/render-model.md section 3 asks for the nearest hit, not a way to find it.
+  visitScalarVariant(options, [&]<Algorithm kAlgorithm, bool kBounce, Accel>() {
     for (int y = 0; y < extent.height; ++y) {
-      renderScalarRow<double, kAlgorithm, kBounce>(inputs, camera, extent, y, image.row(y));
+      renderScalarRow<double, kAlgorithm, kBounce, Accel::none>(inputs, camera, extent, y, image.row(y));
     }
   });
   return image;

@@ -3,6 +3,7 @@
 
 #include "core/image.h"
 #include "render/accel/bvh.h"
+#include "render/cpu_contracts.h"
 #include "render/render_options.h"
 #include "render/scalar/scalar_model.h"
 #include "scene/camera.h"
@@ -49,5 +50,6 @@ class ScalarKernel {
   CameraFrame camera_{};
   Image* frame_ = nullptr;
 };
+static_assert(CpuKernel<ScalarKernel>);
 
 }  // namespace rt

@@ -1,25 +1,31 @@
 #pragma once
-// The scalar ray-tracing kernel of docs/render-model.md sections 3-5:
-// shading, the bounce and both algorithms, shared by the scalar renderers
-// (float) and the double-precision reference used by the tests. Everything
-// here is inline and allocation-free: it runs per ray.
+// The scalar ray-tracing kernel of docs/render-model.md sections 2-7:
+// primary rays, shading, the bounce, both algorithms and the output, shared
+// by the scalar renderers (float), the Embree kernel and the
+// double-precision reference used by the tests. Everything here is inline
+// and allocation-free: it runs per ray. The function names are the model's
+// vocabulary, the same in the SIMD kernel and the shader (docs/render-model.md
+// section 9).
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <span>
 
 #include "core/image.h"
+#include "render/render_options.h"
 #include "render/scalar/ray.h"
 #include "render/scalar/sphere_query.h"
+#include "render/shading_params.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 
 namespace rt::kernel {
 
-// Scene data a kernel reads per ray, converted once per frame.
+// Scene data a kernel reads per ray, converted once per scene (in prepare()).
 template <typename Real>
 struct ShadingInputs {
   std::span<const Sphere> spheres;
-  const Bvh* bvh;  // null: brute force
+  const Bvh* bvh;  // the scene's hierarchy for the Accel::bvh variant; null otherwise
   Vec3<Real> toLight;  // -directionalLightDirection
   Vec3<Real> lightColor;
   Vec3<Real> ambientColor;
@@ -29,19 +35,27 @@ struct ShadingInputs {
   Real specularStrength;
   int maxDepth;
 
-  static ShadingInputs from(const Scene& scene) {
+  // The scene's spheres in this precision's form of the shading parameters.
+  static ShadingInputs from(const Scene& scene, const Bvh* bvh = nullptr) {
+    const ShadingParams p = shadingParamsOf(scene);
     return {scene.spheres,
-            nullptr,
-            -Vec3<Real>(scene.lightData.directionalLightDirection),
-            Vec3<Real>(scene.lightData.directionalLightColor),
-            Vec3<Real>(scene.lightData.ambientLightColor),
-            Vec3<Real>(scene.render.background),
-            static_cast<Real>(scene.render.reflectivity),
-            static_cast<Real>(scene.render.shininess),
-            static_cast<Real>(scene.render.specularStrength),
-            scene.render.maxDepth};
+            bvh,
+            Vec3<Real>(p.toLight),
+            Vec3<Real>(p.lightColor),
+            Vec3<Real>(p.ambientColor),
+            Vec3<Real>(p.background),
+            static_cast<Real>(p.reflectivity),
+            static_cast<Real>(p.shininess),
+            static_cast<Real>(p.specularStrength),
+            p.maxDepth};
   }
 };
+
+// The camera ray through pixel (x, y)'s centre (docs/render-model.md section 2).
+template <typename Real>
+inline Ray<Real> primaryRay(const CameraFrame& camera, Extent extent, int x, int y) {
+  return {Vec3<Real>(camera.position), glm::normalize(primaryRayDirection<Real>(camera, extent, x, y))};
+}
 
 // Phong: ambient + diffuse + specular from one directional light (docs/render-model.md section 4).
 template <typename Real>
@@ -78,12 +92,12 @@ inline void shadeBounce(const ShadingInputs<Real>& in, const RaycastHit<Real>& h
 }
 
 // Single-pass: accumulate colour and throughput on the way down.
-template <typename Real, bool kBounceExit>
+template <typename Real, bool kBounceExit, Accel kAccel>
 inline Vec3<Real> traceSinglePass(const ShadingInputs<Real>& in, Ray<Real> ray) {
   Vec3<Real> color(0);
   Vec3<Real> throughput(1);
   for (int depth = 0; depth < in.maxDepth; ++depth) {
-    const RaycastHit<Real> hit = nearestHit(ray, in.spheres, in.bvh);
+    const RaycastHit<Real> hit = nearestHit<kAccel>(ray, in.spheres, in.bvh);
     if (!hit.hit()) {
       color += throughput * in.background;
       if constexpr (kBounceExit) break;
@@ -115,14 +129,14 @@ inline Vec3<Real> foldSegment(const ShadingInputs<Real>& in, const Vec3<Real>& a
 
 // Two-pass (the thesis' original): the forward pass stores every ray, hit
 // and sphere colour; the backward pass walks them from the last segment.
-template <typename Real, bool kBounceExit>
+template <typename Real, bool kBounceExit, Accel kAccel>
 inline Vec3<Real> traceTwoPass(const ShadingInputs<Real>& in, Ray<Real> ray,
                                std::span<PathSegment<Real>, kMaxDepthLimit> segments) {
   int count = 0;
   for (; count < in.maxDepth; ++count) {
     PathSegment<Real>& s = segments[static_cast<std::size_t>(count)];
     s.ray = ray;
-    s.hit = nearestHit(ray, in.spheres, in.bvh);
+    s.hit = nearestHit<kAccel>(ray, in.spheres, in.bvh);
     if (!s.hit.hit()) {
       if constexpr (kBounceExit) {
         ++count;

@@ -1,7 +1,7 @@
 #pragma once
-// Span level of the scalar kernel (pixel -> span -> frame): each variant is
-// its own instantiation, chosen before the frame, so no branch on the
-// options runs per ray.
+// Span level of the scalar kernel (pixel -> span -> frame): each variant
+// (algorithm, bounce exit, accel) is its own instantiation, chosen before
+// the frame, so no branch on the options runs per ray.
 #include <span>
 #include <stdexcept>
 
@@ -12,40 +12,45 @@
 namespace rt {
 
 // Pixels x0..x1-1 of row y (the schedulers hand out such spans).
-template <typename Real, Algorithm kAlgorithm, bool kBounceExit>
+template <typename Real, Algorithm kAlgorithm, bool kBounceExit, Accel kAccel>
 void renderScalarSpan(const kernel::ShadingInputs<Real>& in, const CameraFrame& camera, Extent extent, int y,
                       int x0, int x1, std::span<Rgba8> row) {
-  const kernel::Vec3<Real> origin(camera.position);
   [[maybe_unused]] std::array<kernel::PathSegment<Real>, kMaxDepthLimit> segments;
   for (int x = x0; x < x1; ++x) {
-    const kernel::Ray<Real> ray{origin, glm::normalize(primaryRayDirection<Real>(camera, extent, x, y))};
+    const kernel::Ray<Real> ray = kernel::primaryRay<Real>(camera, extent, x, y);
     kernel::Vec3<Real> color;
     if constexpr (kAlgorithm == Algorithm::two_pass) {
-      color = kernel::traceTwoPass<Real, kBounceExit>(in, ray, segments);
+      color = kernel::traceTwoPass<Real, kBounceExit, kAccel>(in, ray, segments);
     } else {
-      color = kernel::traceSinglePass<Real, kBounceExit>(in, ray);
+      color = kernel::traceSinglePass<Real, kBounceExit, kAccel>(in, ray);
     }
     row[static_cast<std::size_t>(x)] = kernel::toRgba8(color);
   }
 }
 
-template <typename Real, Algorithm kAlgorithm, bool kBounceExit>
+template <typename Real, Algorithm kAlgorithm, bool kBounceExit, Accel kAccel>
 void renderScalarRow(const kernel::ShadingInputs<Real>& in, const CameraFrame& camera, Extent extent, int y,
                      std::span<Rgba8> row) {
-  renderScalarSpan<Real, kAlgorithm, kBounceExit>(in, camera, extent, y, 0, extent.width, row);
+  renderScalarSpan<Real, kAlgorithm, kBounceExit, kAccel>(in, camera, extent, y, 0, extent.width, row);
 }
 
-// Calls visit.template operator()<Algorithm, bool>() with the variant the options select.
+// Calls visit.template operator()<Algorithm, bool, Accel>() with the
+// variant the options select: the algorithm, the bounce exit and --accel
+// (the scalar kernels have no sphere or discriminant exit).
 template <typename Visitor>
 void visitScalarVariant(const RenderOptions& options, Visitor&& visit) {
+  const auto withAccel = [&]<Algorithm kAlgorithm, bool kBounce>() {
+    return options.accel == Accel::bvh ? visit.template operator()<kAlgorithm, kBounce, Accel::bvh>()
+                                       : visit.template operator()<kAlgorithm, kBounce, Accel::none>();
+  };
   const bool bounce = options.earlyExits.has(EarlyExit::bounce);
   switch (options.algorithm) {
     case Algorithm::single_pass:
-      return bounce ? visit.template operator()<Algorithm::single_pass, true>()
-                    : visit.template operator()<Algorithm::single_pass, false>();
+      return bounce ? withAccel.template operator()<Algorithm::single_pass, true>()
+                    : withAccel.template operator()<Algorithm::single_pass, false>();
     case Algorithm::two_pass:
-      return bounce ? visit.template operator()<Algorithm::two_pass, true>()
-                    : visit.template operator()<Algorithm::two_pass, false>();
+      return bounce ? withAccel.template operator()<Algorithm::two_pass, true>()
+                    : withAccel.template operator()<Algorithm::two_pass, false>();
   }
   throw std::logic_error("unknown algorithm");
 }

@@ -2,7 +2,9 @@
 // The spatial query of the scalar kernel: the nearest sphere a ray hits.
 // Brute force tests every ray against every sphere; with a BVH
 // (--accel bvh) only the spheres whose boxes the ray reaches are tested.
-// This is the one place the scalar kernels ask which sphere a ray meets.
+// This is the one place the scalar kernels ask which sphere a ray meets;
+// which of the two is a template parameter, chosen once in prepare().
+// The names are the model's vocabulary (docs/render-model.md section 9).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -10,6 +12,7 @@
 #include <span>
 
 #include "render/accel/bvh.h"
+#include "render/render_options.h"
 #include "render/scalar/ray.h"
 #include "scene/scene.h"
 
@@ -49,7 +52,7 @@ inline RaycastHit<Real> hitRecord(const Ray<Real>& ray, std::span<const Sphere> 
 
 // Brute force: the nearest hit over all spheres; on an exact tie the lower index wins.
 template <typename Real>
-inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere> spheres) {
+inline RaycastHit<Real> nearestHitOfAll(const Ray<Real>& ray, std::span<const Sphere> spheres) {
   Real best = std::numeric_limits<Real>::infinity();
   int bestIndex = -1;
   for (std::size_t i = 0; i < spheres.size(); ++i) {
@@ -87,7 +90,7 @@ inline bool boxReachable(const BvhNode& node, const Ray<Real>& ray, const Vec3<R
 // sphere, spheres visited in tree order (so an exact tie is settled by the
 // index, not by the order of the visit). Near child first, a fixed stack.
 template <typename Real>
-inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere> spheres, const Bvh& bvh) {
+inline RaycastHit<Real> nearestHitInBvh(const Ray<Real>& ray, std::span<const Sphere> spheres, const Bvh& bvh) {
   const Vec3<Real> inverse = inverseDirection(ray.direction);
   const Vec3<Real> a = glm::abs(ray.origin);
   const Real pad = traversalPad(bvh, static_cast<float>(std::max({a.x, a.y, a.z})));
@@ -117,10 +120,15 @@ inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere>
   return hitRecord(ray, spheres, best, bestIndex);
 }
 
-// The kernels' one entry to the spatial query: the BVH when there is one.
-template <typename Real>
+// The kernels' one entry to the spatial query; kAccel is the compiled
+// variant of --accel (with Accel::bvh, `bvh` is the scene's hierarchy).
+template <Accel kAccel, typename Real>
 inline RaycastHit<Real> nearestHit(const Ray<Real>& ray, std::span<const Sphere> spheres, const Bvh* bvh) {
-  return bvh ? nearestHit(ray, spheres, *bvh) : nearestHit(ray, spheres);
+  if constexpr (kAccel == Accel::bvh) {
+    return nearestHitInBvh(ray, spheres, *bvh);
+  } else {
+    return nearestHitOfAll(ray, spheres);
+  }
 }
 
 }  // namespace rt::kernel

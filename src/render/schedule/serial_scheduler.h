@@ -8,6 +8,7 @@
 
 #include "core/image.h"
 #include "core/profiler.h"
+#include "render/cpu_contracts.h"
 #include "render/render_options.h"
 
 namespace rt {
@@ -35,5 +36,6 @@ class SerialScheduler {
     }
   }
 };
+static_assert(SpanScheduler<SerialScheduler>);
 
 }  // namespace rt

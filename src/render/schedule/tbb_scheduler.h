@@ -12,6 +12,7 @@
 
 #include "core/image.h"
 #include "core/profiler.h"
+#include "render/cpu_contracts.h"
 #include "render/render_options.h"
 
 namespace rt {
@@ -53,6 +54,7 @@ class TbbScheduler {
   oneapi::tbb::global_control limit_;
   oneapi::tbb::task_arena arena_;
 };
+static_assert(SpanScheduler<TbbScheduler>);
 
 // Pixels per tile column: wide enough that a tile's packets amortise the
 // per-task cost, a multiple of every packet width up to 64 lanes.

@@ -6,7 +6,9 @@
 // It mirrors scalar/scalar_model.h operation for operation (same formulas, same
 // evaluation order, a masked lane where the scalar code branches), so the
 // image agrees with the sequential renderer; the only intended differences
-// are fused multiply-adds in the sphere test and the power function.
+// are fused multiply-adds in the sphere test and the power function. The
+// functions carry the scalar kernel's names in Highway's case, the packet
+// types the suffix X (docs/render-model.md section 9).
 
 #if defined(RT_RENDER_SIMD_PACKET_KERNEL_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef RT_RENDER_SIMD_PACKET_KERNEL_INL_H_
@@ -38,6 +40,7 @@ using MaskF = hn::Mask<D>;
 constexpr float kEpsilon = static_cast<float>(RT_HIT_EPSILON);
 
 // ---- Packet types (the thesis' Vec3_x4, Ray_x4, RaycastHit_x4) ----------
+// The scalar kernel's Vec3, Ray and RaycastHit (scalar/ray.h), one lane per pixel.
 
 template <class D>
 struct Vec3x {
@@ -51,7 +54,7 @@ struct RayX {
 };
 
 template <class D>
-struct HitX {
+struct RaycastHitX {
   MaskF<D> hit;  // lanes that hit a sphere; the other lanes hold junk
   Vec3x<D> position;
   Vec3x<D> normal;
@@ -62,7 +65,7 @@ struct HitX {
 // ---- Vec3x arithmetic: the same evaluation order as glm's ---------------
 
 template <class D>
-HWY_INLINE Vec3x<D> Broadcast(D d, const Float3& v) {
+HWY_INLINE Vec3x<D> Broadcast(D d, const glm::vec3& v) {
   return {hn::Set(d, v[0]), hn::Set(d, v[1]), hn::Set(d, v[2])};
 }
 template <class D>
@@ -101,40 +104,7 @@ HWY_INLINE Vec3x<D> Select(MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) 
 
 // ---- Intersection (docs/render-model.md section 3) ----------------------
 
-#include "render/simd/sphere_query-inl.h"  // NearestSphere()
-
-template <class D>
-HWY_INLINE Vec3x<D> Gather3(D d, const float* x, const float* y, const float* z, hn::Vec<hn::RebindToSigned<D>> i) {
-  return {hn::GatherIndex(d, x, i), hn::GatherIndex(d, y, i), hn::GatherIndex(d, z, i)};
-}
-
-// docs/render-model.md section 4: where the ray leaves the sphere (it
-// started inside) the normal is turned to the side the ray sees.
-template <class D>
-HWY_INLINE Vec3x<D> FacingRay(D d, const Vec3x<D>& n, const Vec3x<D>& direction) {
-  const MaskF<D> leaving = Dot(direction, n) > hn::Zero(d);
-  return Select(leaving, hn::Set(d, -1.0f) * n, n);
-}
-
-// Out of line: the sphere loop is the bulk of the code, and this way it is
-// compiled 4 times per packet width, not once for each of the 16 variants
-// (the call costs nothing next to a loop over the scene's spheres).
-template <bool kSphereExit, bool kDiscriminantExit, class D>
-HWY_NOINLINE HitX<D> Raycast(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
-  VecF<D> bestT, bestIndex;
-  NearestSphere<kSphereExit, kDiscriminantExit>(d, s, ray, active, bestT, bestIndex);
-  HitX<D> h;
-  h.hit = bestIndex >= hn::Zero(d);
-  // Missed lanes read sphere 0 at distance 0: junk, but finite junk.
-  const hn::RebindToSigned<D> di;
-  const auto index = hn::ConvertTo(di, hn::Max(bestIndex, hn::Zero(d)));
-  h.distance = hn::IfThenElseZero(h.hit, bestT);
-  h.position = ray.origin + h.distance * ray.direction;
-  const Vec3x<D> center = Gather3(d, s.centerX, s.centerY, s.centerZ, index);
-  h.normal = FacingRay(d, (h.position - center) / hn::GatherIndex(d, s.radius, index), ray.direction);
-  h.sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index);
-  return h;
-}
+#include "render/simd/sphere_query-inl.h"  // NearestHit()
 
 // ---- Shading (docs/render-model.md section 4) -------------------------------------------
 
@@ -156,26 +126,27 @@ HWY_INLINE VecF<D> Power(D d, VecF<D> x, float exponent) {
 }
 
 // Phong with one directional light: ambient + diffuse + specular. Out of
-// line for the same reason as Raycast: once per packet width.
+// line for the same reason as NearestHit: once per packet width.
 template <class D>
-HWY_NOINLINE Vec3x<D> LocalColor(D d, const FrameParams& f, const HitX<D>& hit, const Vec3x<D>& direction) {
-  const Vec3x<D> l = Broadcast(d, f.toLight);
-  const Vec3x<D> lightColor = Broadcast(d, f.lightColor);
+HWY_NOINLINE Vec3x<D> LocalColor(D d, const ShadingParams& shading, const RaycastHitX<D>& hit,
+                                 const Vec3x<D>& direction) {
+  const Vec3x<D> l = Broadcast(d, shading.toLight);
+  const Vec3x<D> lightColor = Broadcast(d, shading.lightColor);
   const Vec3x<D>& n = hit.normal;
   const Vec3x<D> minusL = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - l;
-  const Vec3x<D> ambient = Broadcast(d, f.ambientColor) * hit.sphereColor;
+  const Vec3x<D> ambient = Broadcast(d, shading.ambientColor) * hit.sphereColor;
   const Vec3x<D> diffuse = (hn::Max(Dot(n, l), hn::Zero(d)) * lightColor) * hit.sphereColor;
   const Vec3x<D> rr = minusL - (hn::Set(d, 2.0f) * Dot(minusL, n)) * n;  // reflect(-l, n)
   const Vec3x<D> minusD = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - direction;
   // Clamped to [0, 1] as in the scalar model (docs/render-model.md section 4).
   const VecF<D> cosine = hn::Min(hn::Max(Dot(rr, minusD), hn::Zero(d)), hn::Set(d, 1.0f));
-  const VecF<D> highlight = Power(d, cosine, f.shininess);
-  return ambient + diffuse + (hn::Set(d, f.specularStrength) * highlight) * lightColor;
+  const VecF<D> highlight = Power(d, cosine, shading.shininess);
+  return ambient + diffuse + (hn::Set(d, shading.specularStrength) * highlight) * lightColor;
 }
 
 // The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
 template <class D>
-HWY_INLINE RayX<D> Reflected(D d, const RayX<D>& ray, const HitX<D>& hit) {
+HWY_INLINE RayX<D> ReflectedRay(D d, const RayX<D>& ray, const RaycastHitX<D>& hit) {
   const Vec3x<D>& dir = ray.direction;
   const Vec3x<D>& n = hit.normal;
   const Vec3x<D> origin = hit.position + hn::Set(d, kEpsilon) * n;
@@ -184,22 +155,30 @@ HWY_INLINE RayX<D> Reflected(D d, const RayX<D>& ray, const HitX<D>& hit) {
 
 // ---- The two algorithms (docs/render-model.md section 5) --------------------------------
 
+// A single-pass bounce, in the lanes that hit a sphere: its light joins the
+// colour, its colour filters the throughput, and the ray reflects. The
+// other lanes' throughput and ray become junk; they are not active again.
+template <class D>
+HWY_INLINE void ShadeBounce(D d, const ShadingParams& shading, const RaycastHitX<D>& hit, RayX<D>& ray,
+                            Vec3x<D>& color, Vec3x<D>& throughput) {
+  color = Select(hit.hit, color + throughput * LocalColor(d, shading, hit, ray.direction), color);
+  throughput = throughput * (hn::Set(d, shading.reflectivity) * hit.sphereColor);
+  ray = ReflectedRay(d, ray, hit);
+}
+
 // Single-pass: colour and throughput accumulate on the way down. A lane
 // that missed leaves `active`; since its ray would miss again, dropping it
 // equals the scalar kernel, which keeps tracing it with zero throughput.
-template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, class D>
+template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, bool kBvh, class D>
 HWY_INLINE Vec3x<D> TraceSinglePass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active) {
-  const Vec3x<D> background = Broadcast(d, f.background);
-  const VecF<D> reflectivity = hn::Set(d, f.reflectivity);
+  const Vec3x<D> background = Broadcast(d, f.shading.background);
   Vec3x<D> color{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
   Vec3x<D> throughput{hn::Set(d, 1.0f), hn::Set(d, 1.0f), hn::Set(d, 1.0f)};
-  for (int depth = 0; depth < f.maxDepth; ++depth) {
-    const HitX<D> hit = Raycast<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active);
+  for (int depth = 0; depth < f.shading.maxDepth; ++depth) {
+    const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kBvh>(d, f.spheres, ray, active);
     const MaskF<D> missed = hn::AndNot(hit.hit, active);
     color = Select(missed, color + throughput * background, color);
-    color = Select(hit.hit, color + throughput * LocalColor(d, f, hit, ray.direction), color);
-    throughput = throughput * (reflectivity * hit.sphereColor);
-    ray = Reflected(d, ray, hit);
+    ShadeBounce(d, f.shading, hit, ray, color, throughput);
     active = hit.hit;
     if constexpr (kBounceExit) {
       if (hn::AllFalse(d, active)) break;
@@ -208,8 +187,16 @@ HWY_INLINE Vec3x<D> TraceSinglePass(D d, const FrameParams& f, RayX<D> ray, Mask
   return color;
 }
 
-// The two-pass forward pass' storage: per segment one ray, one hit and one
-// sphere colour packet, stored vector by vector into the thread's scratch.
+// One stored segment of the two-pass forward pass (the scalar PathSegment;
+// the sphere colour travels in the hit record).
+template <class D>
+struct PathSegmentX {
+  RayX<D> ray;
+  RaycastHitX<D> hit;
+};
+
+// The forward pass' storage: per segment one ray, one hit and one sphere
+// colour packet, stored vector by vector into the thread's scratch.
 enum SegmentSlot : std::size_t {
   kOriginX, kOriginY, kOriginZ, kDirectionX, kDirectionY, kDirectionZ,
   kPositionX, kPositionY, kPositionZ, kNormalX, kNormalY, kNormalZ,
@@ -218,27 +205,29 @@ enum SegmentSlot : std::size_t {
 static_assert(kSegmentSlots == kSegmentVectors, "scratch sizing in packet_kernels.h must match");
 
 template <class D>
-class SegmentStore {
+class PathSegmentStore {
  public:
-  SegmentStore(D d, float* base) : d_(d), base_(base), lanes_(hn::Lanes(d)) {}
+  PathSegmentStore(D d, float* base) : d_(d), base_(base), lanes_(hn::Lanes(d)) {}
 
-  void put(int segment, const RayX<D>& ray, const HitX<D>& hit) const {
-    put3(segment, kOriginX, ray.origin);
-    put3(segment, kDirectionX, ray.direction);
-    put3(segment, kPositionX, hit.position);
-    put3(segment, kNormalX, hit.normal);
-    hn::Store(hit.distance, d_, at(segment, kDistance));
-    put3(segment, kColorR, hit.sphereColor);
-    hn::Store(hn::VecFromMask(d_, hit.hit), d_, at(segment, kHitMask));
+  void put(int segment, const PathSegmentX<D>& s) const {
+    put3(segment, kOriginX, s.ray.origin);
+    put3(segment, kDirectionX, s.ray.direction);
+    put3(segment, kPositionX, s.hit.position);
+    put3(segment, kNormalX, s.hit.normal);
+    hn::Store(s.hit.distance, d_, at(segment, kDistance));
+    put3(segment, kColorR, s.hit.sphereColor);
+    hn::Store(hn::VecFromMask(d_, s.hit.hit), d_, at(segment, kHitMask));
   }
-  void get(int segment, RayX<D>& ray, HitX<D>& hit) const {
-    ray.origin = get3(segment, kOriginX);
-    ray.direction = get3(segment, kDirectionX);
-    hit.position = get3(segment, kPositionX);
-    hit.normal = get3(segment, kNormalX);
-    hit.distance = hn::Load(d_, at(segment, kDistance));
-    hit.sphereColor = get3(segment, kColorR);
-    hit.hit = hn::MaskFromVec(hn::Load(d_, at(segment, kHitMask)));
+  [[nodiscard]] PathSegmentX<D> get(int segment) const {
+    PathSegmentX<D> s;
+    s.ray.origin = get3(segment, kOriginX);
+    s.ray.direction = get3(segment, kDirectionX);
+    s.hit.position = get3(segment, kPositionX);
+    s.hit.normal = get3(segment, kNormalX);
+    s.hit.distance = hn::Load(d_, at(segment, kDistance));
+    s.hit.sphereColor = get3(segment, kColorR);
+    s.hit.hit = hn::MaskFromVec(hn::Load(d_, at(segment, kHitMask)));
+    return s;
   }
 
  private:
@@ -260,41 +249,45 @@ class SegmentStore {
   std::size_t lanes_;
 };
 
+// One step of the backward pass: the light gathered behind segment `s`
+// (`acc`) seen through it, or the background where the lane missed.
+template <class D>
+HWY_INLINE Vec3x<D> FoldSegment(D d, const ShadingParams& shading, const Vec3x<D>& acc, const PathSegmentX<D>& s) {
+  const Vec3x<D> lit =
+      (hn::Set(d, shading.reflectivity) * acc) * s.hit.sphereColor + LocalColor(d, shading, s.hit, s.ray.direction);
+  return Select(s.hit.hit, lit, Broadcast(d, shading.background));
+}
+
 // Two-pass (the thesis' original): the forward pass stores every segment,
 // the backward pass walks them from the last one. A lane's segments after
 // its miss are misses, as in the scalar kernel.
-template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, class D>
+template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, bool kBvh, class D>
 HWY_INLINE Vec3x<D> TraceTwoPass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active, float* scratch) {
-  const SegmentStore<D> store(d, scratch);
+  const PathSegmentStore<D> store(d, scratch);
   int count = 0;
-  while (count < f.maxDepth) {
-    const HitX<D> hit = Raycast<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active);
-    store.put(count++, ray, hit);
-    ray = Reflected(d, ray, hit);
+  while (count < f.shading.maxDepth) {
+    const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kBvh>(d, f.spheres, ray, active);
+    store.put(count++, {ray, hit});
+    ray = ReflectedRay(d, ray, hit);
     active = hit.hit;
     if constexpr (kBounceExit) {
       if (hn::AllFalse(d, active)) break;
     }
   }
-  const Vec3x<D> background = Broadcast(d, f.background);
-  const VecF<D> reflectivity = hn::Set(d, f.reflectivity);
   Vec3x<D> acc{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
-  for (int i = count - 1; i >= 0; --i) {
-    RayX<D> segmentRay;
-    HitX<D> hit;
-    store.get(i, segmentRay, hit);
-    const Vec3x<D> lit = (reflectivity * acc) * hit.sphereColor + LocalColor(d, f, hit, segmentRay.direction);
-    acc = Select(hit.hit, lit, background);
-  }
+  for (int i = count - 1; i >= 0; --i) acc = FoldSegment(d, f.shading, acc, store.get(i));
   return acc;
 }
 
 // ---- Pixel and span level -----------------------------------------------
 
 // Primary rays of pixels x .. x+lanes-1 of the row at vertical coordinate v
-// (docs/render-model.md section 2, the scalar primaryRayDirection lane by lane).
+// (docs/render-model.md section 2, the scalar primaryRay lane by lane).
+// This and ToRgba8 run once per packet, not per bounce: out of line, they
+// are compiled once per packet width instead of into each of the 32 span
+// variants, which keeps the accel variant's cost in build time small.
 template <class D>
-HWY_INLINE RayX<D> PrimaryRays(D d, const FrameParams& f, int x, float v) {
+HWY_NOINLINE RayX<D> PrimaryRay(D d, const FrameParams& f, int x, float v) {
   const float w = static_cast<float>(f.extent.width);
   const float h = static_cast<float>(f.extent.height);
   const VecF<D> px = hn::Iota(d, static_cast<float>(x));
@@ -307,7 +300,7 @@ HWY_INLINE RayX<D> PrimaryRays(D d, const FrameParams& f, int x, float v) {
 
 // docs/render-model.md section 7: clamp, round(255 c), opaque; only the first n lanes land.
 template <class D>
-HWY_INLINE void WritePixels(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
+HWY_NOINLINE void ToRgba8(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
   const hn::RebindToSigned<D> di;
   constexpr std::size_t kMax = hn::MaxLanes(D());
   HWY_ALIGN std::int32_t channel[3][kMax];
@@ -331,6 +324,7 @@ void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> sc
   constexpr bool kBounce = kV.bounceExit;
   constexpr bool kSphere = kV.sphereExit;
   constexpr bool kDiscriminant = kV.discriminantExit;
+  constexpr bool kBvh = kV.bvh;
   const D d;
   const int lanes = static_cast<int>(hn::Lanes(d));
   const float h = static_cast<float>(f.extent.height);
@@ -339,14 +333,14 @@ void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> sc
   for (int x = x0; x < x1; x += lanes) {
     const auto n = static_cast<std::size_t>(std::min(lanes, x1 - x));
     const MaskF<D> active = hn::FirstN(d, n);  // a partial packet at the row's end
-    const RayX<D> ray = PrimaryRays(d, f, x, v);
+    const RayX<D> ray = PrimaryRay(d, f, x, v);
     Vec3x<D> color;
     if constexpr (kTwoPass) {
-      color = TraceTwoPass<kBounce, kSphere, kDiscriminant>(d, f, ray, active, scratch.data());
+      color = TraceTwoPass<kBounce, kSphere, kDiscriminant, kBvh>(d, f, ray, active, scratch.data());
     } else {
-      color = TraceSinglePass<kBounce, kSphere, kDiscriminant>(d, f, ray, active);
+      color = TraceSinglePass<kBounce, kSphere, kDiscriminant, kBvh>(d, f, ray, active);
     }
-    WritePixels(d, color, row + x, n);
+    ToRgba8(d, color, row + x, n);
   }
 }
 

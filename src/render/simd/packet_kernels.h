@@ -13,6 +13,7 @@
 #include "core/image.h"
 #include "render/accel/bvh.h"
 #include "render/kernel_variant.h"
+#include "render/shading_params.h"
 
 namespace rt::simd {
 
@@ -31,24 +32,16 @@ struct SphereArrays {
   const Bvh* bvh = nullptr;  // --accel bvh; null: brute force
 };
 
-using Float3 = std::array<float, 3>;
-
-// Everything one frame's kernel calls read; built once per frame.
+// Everything one frame's kernel calls read: the scene's parts set once per
+// scene in prepare(), the camera and the target per frame.
 struct FrameParams {
   SphereArrays spheres;
-  Float3 cameraPosition;
-  Float3 forward;
-  Float3 right;
-  Float3 up;
+  ShadingParams shading;
+  glm::vec3 cameraPosition;
+  glm::vec3 forward;
+  glm::vec3 right;
+  glm::vec3 up;
   float tanHalfFov;
-  Float3 toLight;  // -directionalLightDirection
-  Float3 lightColor;
-  Float3 ambientColor;
-  Float3 background;
-  float reflectivity;
-  float shininess;
-  float specularStrength;
-  int maxDepth;
   Extent extent;
   Rgba8* pixels;  // the working buffer, row-major, extent.width pixels per row
 };
@@ -58,7 +51,7 @@ struct FrameParams {
 // 64-byte aligned); the single-pass variants do not touch it.
 using SpanKernel = void (*)(const FrameParams& frame, int y, int x0, int x1, std::span<float> scratch);
 
-// Per packet width: the kernel's 16 variants, or none where the target
+// Per packet width: the kernel's 32 variants, or none where the target
 // cannot hold that many float lanes.
 struct LaneKernels {
   int lanes = 0;

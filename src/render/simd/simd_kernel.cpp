@@ -9,8 +9,6 @@
 namespace rt {
 namespace {
 
-simd::Float3 float3(const glm::vec3& v) { return {v.x, v.y, v.z}; }
-
 // --lanes: native, or exactly one of the schema's lane widths if the target has it.
 simd::LaneKernels selectLanes(const simd::TargetKernels& target, int lanes) {
   if (lanes == ParallelSettings::kNativeLanes) return target.native;
@@ -27,18 +25,6 @@ simd::LaneKernels selectLanes(const simd::TargetKernels& target, int lanes) {
   return kernels;
 }
 
-// The frame constants that come from the scene, not the camera.
-void setSceneParams(simd::FrameParams& f, const Scene& s) {
-  f.toLight = float3(-s.lightData.directionalLightDirection);
-  f.lightColor = float3(s.lightData.directionalLightColor);
-  f.ambientColor = float3(s.lightData.ambientLightColor);
-  f.background = float3(s.render.background);
-  f.reflectivity = s.render.reflectivity;
-  f.shininess = s.render.shininess;
-  f.specularStrength = s.render.specularStrength;
-  f.maxDepth = s.render.maxDepth;
-}
-
 }  // namespace
 
 SimdKernel::SimdKernel(const ParallelSettings& settings)
@@ -49,7 +35,7 @@ void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int s
   accel_.prepare(scene.spheres, options.accel);
   params_.spheres.bvh = accel_.bvh();
   prepareScratch(scene.render.maxDepth, slots);
-  setSceneParams(params_, scene);
+  params_.shading = shadingParamsOf(scene);
   kernel_ = kernels_.variants[KernelVariant::of(options).index()];
 }
 
@@ -86,10 +72,10 @@ std::span<float> SimdKernel::scratchOf(int slot) {
 }
 
 void SimdKernel::beginFrame(const CameraFrame& camera, Image& frame) {
-  params_.cameraPosition = float3(camera.position);
-  params_.forward = float3(camera.forward);
-  params_.right = float3(camera.right);
-  params_.up = float3(camera.up);
+  params_.cameraPosition = camera.position;
+  params_.forward = camera.forward;
+  params_.right = camera.right;
+  params_.up = camera.up;
   params_.tanHalfFov = camera.tanHalfFov;
   params_.extent = frame.extent();
   params_.pixels = frame.pixels().data();

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "render/cpu_contracts.h"
 #include "render/renderer.h"
 #include "render/simd/packet_kernels.h"
 #include "scene/camera.h"
@@ -66,5 +67,6 @@ class SimdKernel {
   std::vector<CacheLine> scratch_;  // one slot per thread for the two-pass forward pass
   std::size_t scratchLinesPerSlot_ = 0;
 };
+static_assert(CpuKernel<SimdKernel>);
 
 }  // namespace rt

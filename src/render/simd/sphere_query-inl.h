@@ -2,18 +2,20 @@
 // ray hits (docs/render-model.md section 3). Brute force: every packet is
 // tested against every sphere; with a BVH (--accel bvh) only the spheres
 // whose boxes some lane reaches. This is the one place the packet kernels
-// ask which sphere a ray meets.
+// ask which sphere a ray meets; which of the two is a template parameter,
+// chosen once in prepare(). The names are the scalar kernel's
+// (scalar/sphere_query.h) in Highway's case (docs/render-model.md section 9).
 //
 // A fragment, not a header: packet_kernel-inl.h includes it inside its
 // per-target namespace, after the packet types, once per Highway target.
 
-// One sphere against every lane: where it is hit nearer than the lane's
-// best, it becomes the best. With kTieByIndex an exact tie goes to the
+// One sphere against every lane (the scalar intersectSphere), and where it
+// is hit nearer than the lane's best, it becomes the best. With kTieByIndex an exact tie goes to the
 // lower index (needed where spheres come in tree order; brute force visits
 // them in index order, where `<` alone settles ties the same way).
 // kSphereExit / kDiscriminantExit are the thesis' two SIMD early exits.
 template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
-HWY_INLINE void TestSphere(D d, const SphereArrays& s, int i, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
+HWY_INLINE void IntersectSphere(D d, const SphereArrays& s, int i, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
                            VecF<D>& bestIndex) {
   const VecF<D> eps = hn::Set(d, kEpsilon);
   const Vec3x<D>& o = ray.origin;
@@ -47,11 +49,41 @@ HWY_INLINE void TestSphere(D d, const SphereArrays& s, int i, const RayX<D>& ray
   bestIndex = hn::IfThenElse(closer, index, bestIndex);
 }
 
-// Brute force: every sphere in index order.
+template <class D>
+HWY_INLINE Vec3x<D> Gather3(D d, const float* x, const float* y, const float* z, hn::Vec<hn::RebindToSigned<D>> i) {
+  return {hn::GatherIndex(d, x, i), hn::GatherIndex(d, y, i), hn::GatherIndex(d, z, i)};
+}
+
+// The hit records of the lanes' best spheres (index -1: a miss). Where the
+// ray leaves the sphere (it started inside) the normal is turned to the
+// side the ray sees (docs/render-model.md section 4).
+template <class D>
+HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereArrays& s, const RayX<D>& ray, VecF<D> bestT, VecF<D> bestIndex) {
+  RaycastHitX<D> h;
+  h.hit = bestIndex >= hn::Zero(d);
+  // Missed lanes read sphere 0 at distance 0: junk, but finite junk.
+  const hn::RebindToSigned<D> di;
+  const auto index = hn::ConvertTo(di, hn::Max(bestIndex, hn::Zero(d)));
+  h.distance = hn::IfThenElseZero(h.hit, bestT);
+  h.position = ray.origin + h.distance * ray.direction;
+  const Vec3x<D> center = Gather3(d, s.centerX, s.centerY, s.centerZ, index);
+  const Vec3x<D> outward = (h.position - center) / hn::GatherIndex(d, s.radius, index);
+  const MaskF<D> leaving = Dot(ray.direction, outward) > hn::Zero(d);
+  h.normal = Select(leaving, hn::Set(d, -1.0f) * outward, outward);
+  h.sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index);
+  return h;
+}
+
+// Brute force: every sphere in index order. Lanes outside `active` (past
+// the row's end, or already missed) report no hit.
 template <bool kSphereExit, bool kDiscriminantExit, class D>
-HWY_INLINE void NearestSphereOfAll(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
-                                   VecF<D>& bestIndex) {
-  for (int i = 0; i < s.count; ++i) TestSphere<kSphereExit, kDiscriminantExit, false>(d, s, i, ray, active, bestT, bestIndex);
+HWY_INLINE RaycastHitX<D> NearestHitOfAll(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
+  VecF<D> bestT = hn::Set(d, std::numeric_limits<float>::infinity());
+  VecF<D> bestIndex = hn::Set(d, -1.0f);
+  for (int i = 0; i < s.count; ++i) {
+    IntersectSphere<kSphereExit, kDiscriminantExit, false>(d, s, i, ray, active, bestT, bestIndex);
+  }
+  return HitRecord(d, s, ray, bestT, bestIndex);
 }
 
 // The lanes of `active` that may meet a sphere inside `node`'s box, widened
@@ -100,9 +132,10 @@ HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
 // picks the wrong side); each lane ends with the same nearest sphere as
 // brute force.
 template <bool kSphereExit, bool kDiscriminantExit, class D>
-HWY_INLINE void NearestSphereInBvh(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
-                                   VecF<D>& bestIndex) {
+HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
   const Bvh& bvh = *s.bvh;
+  VecF<D> bestT = hn::Set(d, std::numeric_limits<float>::infinity());
+  VecF<D> bestIndex = hn::Set(d, -1.0f);
   const Vec3x<D> inverse = InverseDirection(d, ray.direction);
   const VecF<D> pad = TraversalPad(d, bvh, ray.origin);
   const auto activeSum = [&](VecF<D> c) { return hn::GetLane(hn::SumOfLanes(d, hn::IfThenElseZero(active, c))); };
@@ -120,22 +153,22 @@ HWY_INLINE void NearestSphereInBvh(D d, const SphereArrays& s, const RayX<D>& ra
       continue;
     }
     for (std::uint32_t k = node.first; k < node.first + node.count(); ++k) {
-      TestSphere<kSphereExit, kDiscriminantExit, true>(d, s, static_cast<int>(bvh.order[k]), ray, active, bestT,
-                                                       bestIndex);
+      IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, s, static_cast<int>(bvh.order[k]), ray, active, bestT,
+                                                            bestIndex);
     }
   }
+  return HitRecord(d, s, ray, bestT, bestIndex);
 }
 
-// Nearest sphere per lane, lower index on a tie. Lanes outside `active`
-// (past the row's end, or already missed) report no hit.
-template <bool kSphereExit, bool kDiscriminantExit, class D>
-HWY_INLINE void NearestSphere(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
-                              VecF<D>& bestIndex) {
-  bestT = hn::Set(d, std::numeric_limits<float>::infinity());
-  bestIndex = hn::Set(d, -1.0f);
-  if (s.bvh) {
-    NearestSphereInBvh<kSphereExit, kDiscriminantExit>(d, s, ray, active, bestT, bestIndex);
+// The nearest hit per lane, lower index on a tie; kBvh is the compiled
+// variant of --accel. Out of line: the sphere loop is the bulk of the code,
+// and this way it is compiled 8 times per packet width, not once for each
+// of the 32 variants (the call costs nothing next to a loop over spheres).
+template <bool kSphereExit, bool kDiscriminantExit, bool kBvh, class D>
+HWY_NOINLINE RaycastHitX<D> NearestHit(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
+  if constexpr (kBvh) {
+    return NearestHitInBvh<kSphereExit, kDiscriminantExit>(d, s, ray, active);
   } else {
-    NearestSphereOfAll<kSphereExit, kDiscriminantExit>(d, s, ray, active, bestT, bestIndex);
+    return NearestHitOfAll<kSphereExit, kDiscriminantExit>(d, s, ray, active);
   }
 }

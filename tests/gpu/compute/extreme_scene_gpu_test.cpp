@@ -1,5 +1,5 @@
 // The GPU renderer on the extremes inside the scene limits
-// (docs/render-model.md section 1, Limits): its picture agrees
+// (docs/render-model.md section 1, Limits, and section 4): its picture agrees
 // with the sequential renderer's (whose colours tests/render/extreme_scene_test.cpp
 // finds finite), so no NaN or infinity reached a pixel.
 #include <gtest/gtest.h>

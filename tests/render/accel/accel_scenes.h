@@ -1,7 +1,7 @@
 #pragma once
 // Scenes built to break an acceleration structure, and a seeded
 // 1000-sphere scene: the BVH must find exactly the nearest hit brute force
-// finds in each (issue 11). Every scene starts from the committed default
+// finds in each (docs/render-model.md section 3, the query). Every scene starts from the committed default
 // scene's camera, light and shading; only the spheres (and, for the camera
 // inside a sphere, the camera) change.
 #include <cstdint>

@@ -10,7 +10,7 @@ namespace {
 Ray<float> rayAlongZ(float z0) { return {{0.0f, 0.0f, z0}, {0.0f, 0.0f, 1.0f}}; }
 Sphere sphereAt(glm::vec3 c, float r) { return {c, r, glm::vec3(1.0f)}; }
 RaycastHit<float> nearestAlongZ(const std::vector<Sphere>& spheres) {
-  return nearestHit(rayAlongZ(0), std::span<const Sphere>(spheres));
+  return nearestHitOfAll(rayAlongZ(0), std::span<const Sphere>(spheres));
 }
 
 // A ray from the origin along +z against one sphere: where it hits, and the
@@ -39,12 +39,12 @@ TEST(Intersection, SingleSphereHitsWhereTheModelSays) {
 
 TEST(Intersection, JustMissingRayMisses) {
   const std::vector<Sphere> s{sphereAt({1.001f, 0, 5}, 1)};
-  EXPECT_FALSE(nearestHit(rayAlongZ(0), std::span<const Sphere>(s)).hit());
+  EXPECT_FALSE(nearestHitOfAll(rayAlongZ(0), std::span<const Sphere>(s)).hit());
 }
 
 TEST(Intersection, SphereBehindTheOriginIsNotHit) {
   const std::vector<Sphere> s{sphereAt({0, 0, -5}, 1)};
-  EXPECT_FALSE(nearestHit(rayAlongZ(0), std::span<const Sphere>(s)).hit());
+  EXPECT_FALSE(nearestHitOfAll(rayAlongZ(0), std::span<const Sphere>(s)).hit());
   EXPECT_LE(intersectSphere(rayAlongZ(0), s[0]), kEpsilon<float>);
 }
 
@@ -66,7 +66,7 @@ TEST(Intersection, ExactTieGoesToTheLowerIndex) {
   Sphere b = a;
   b.color = glm::vec3(0.5f);
   const std::vector<Sphere> s{sphereAt({0, 0, 50}, 1), a, b};
-  EXPECT_EQ(nearestHit(rayAlongZ(0), std::span<const Sphere>(s)).sphere, 1);
+  EXPECT_EQ(nearestHitOfAll(rayAlongZ(0), std::span<const Sphere>(s)).sphere, 1);
 }
 
 TEST(Intersection, SmallFarSphereDoesNotCancel) {
