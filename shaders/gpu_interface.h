@@ -44,22 +44,22 @@
 // rejects a misaligned one). The camera and image size change per frame,
 // the rest (rt::ShadingParams less maxDepth, a specialization constant)
 // per scene. Each vec3 shares its 16-byte slot with a scalar.
-#define RT_FRAME_CONSTANTS(MEMBER) \
-  MEMBER(vec3, cameraPosition, 0) \
-  MEMBER(float, tanHalfFov, 12) \
-  MEMBER(vec3, cameraForward, 16) \
-  MEMBER(int, width, 28) \
-  MEMBER(vec3, cameraRight, 32) \
-  MEMBER(int, height, 44) \
-  MEMBER(vec3, cameraUp, 48) \
-  MEMBER(uint, sphereCount, 60) \
-  MEMBER(vec3, toLight, 64) \
-  MEMBER(float, reflectivity, 76) \
-  MEMBER(vec3, lightColor, 80) \
-  MEMBER(float, shininess, 92) \
-  MEMBER(vec3, ambientColor, 96) \
+#define RT_FRAME_CONSTANTS(MEMBER)     \
+  MEMBER(vec3, cameraPosition, 0)      \
+  MEMBER(float, tanHalfFov, 12)        \
+  MEMBER(vec3, cameraForward, 16)      \
+  MEMBER(int, width, 28)               \
+  MEMBER(vec3, cameraRight, 32)        \
+  MEMBER(int, height, 44)              \
+  MEMBER(vec3, cameraUp, 48)           \
+  MEMBER(uint, sphereCount, 60)        \
+  MEMBER(vec3, toLight, 64)            \
+  MEMBER(float, reflectivity, 76)      \
+  MEMBER(vec3, lightColor, 80)         \
+  MEMBER(float, shininess, 92)         \
+  MEMBER(vec3, ambientColor, 96)       \
   MEMBER(float, specularStrength, 108) \
-  MEMBER(vec3, background, 112) \
+  MEMBER(vec3, background, 112)        \
   MEMBER(float, unused, 124)
 
 #endif

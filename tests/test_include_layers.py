@@ -70,8 +70,13 @@ def layer_of(path: Path, root: Path) -> str:
 
 
 def sources(root: Path) -> list[Path]:
-    return sorted(p for folder in ("src", SHARED) if (root / folder).is_dir()
-                  for p in (root / folder).rglob("*") if p.suffix in SOURCE_SUFFIXES)
+    return sorted(
+        p
+        for folder in ("src", SHARED)
+        if (root / folder).is_dir()
+        for p in (root / folder).rglob("*")
+        if p.suffix in SOURCE_SUFFIXES
+    )
 
 
 def resolve(name: str, including: Path, root: Path) -> Path | None:
@@ -81,7 +86,7 @@ def resolve(name: str, including: Path, root: Path) -> Path | None:
         candidate = directory / name
         if candidate.is_file():
             return candidate.resolve()
-    assert name in GENERATED, f"{including}: #include \"{name}\" names no file of src/ or shaders/"
+    assert name in GENERATED, f'{including}: #include "{name}" names no file of src/ or shaders/'
     return None
 
 
@@ -128,7 +133,7 @@ def include_cycles(graph: dict[Path, list[Path]]) -> list[list[Path]]:
         visiting.append(node)
         for target in graph.get(node, []):
             if target in visiting:
-                cycles.append(visiting[visiting.index(target):] + [target])
+                cycles.append([*visiting[visiting.index(target) :], target])
             elif target not in done:
                 visit(target)
         visiting.pop()
@@ -142,9 +147,12 @@ def include_cycles(graph: dict[Path, list[Path]]) -> list[list[Path]]:
 
 def upward_includes(root: Path, graph: dict[Path, list[Path]]) -> list[str]:
     root = root.resolve()
-    return [f"{source.relative_to(root)} includes {target.relative_to(root)}"
-            for source, targets in graph.items() for target in targets
-            if layer_of(target, root) not in allowed_layers(layer_of(source, root))]
+    return [
+        f"{source.relative_to(root)} includes {target.relative_to(root)}"
+        for source, targets in graph.items()
+        for target in targets
+        if layer_of(target, root) not in allowed_layers(layer_of(source, root))
+    ]
 
 
 def upward_links(root: Path) -> list[str]:
@@ -175,13 +183,16 @@ def test_the_layers_build_on_known_layers_without_a_cycle():
 
 
 def test_the_checker_finds_a_cycle_and_an_arrow_up(tmp_path):
-    root = write_tree(tmp_path, {
-        "src/core/a.h": '#pragma once\n#include "core/b.h"\n',
-        "src/core/b.h": '#pragma once\n#include "render/c.h"\n',
-        "src/render/c.h": '#pragma once\n#include "core/a.h"\n#include "rt_schema.h"\n',
-        "src/render/d.cpp": '#include "c.h"\n',
-        "src/CMakeLists.txt": "target_link_libraries(rt_core PUBLIC rt_render)\n",
-    })
+    root = write_tree(
+        tmp_path,
+        {
+            "src/core/a.h": '#pragma once\n#include "core/b.h"\n',
+            "src/core/b.h": '#pragma once\n#include "render/c.h"\n',
+            "src/render/c.h": '#pragma once\n#include "core/a.h"\n#include "rt_schema.h"\n',
+            "src/render/d.cpp": '#include "c.h"\n',
+            "src/CMakeLists.txt": "target_link_libraries(rt_core PUBLIC rt_render)\n",
+        },
+    )
     graph = include_graph(root)
     cycles = include_cycles(graph)
     assert [[p.name for p in cycle] for cycle in cycles] == [["a.h", "b.h", "c.h", "a.h"]]
@@ -191,26 +202,32 @@ def test_the_checker_finds_a_cycle_and_an_arrow_up(tmp_path):
 
 
 def test_the_checker_accepts_includes_down_the_layers(tmp_path):
-    root = write_tree(tmp_path, {
-        "shaders/shared.h": "#define SHARED 1\n",
-        "src/core/a.h": '#pragma once\n#include "shared.h"\n',
-        "src/gpu/present/p.h": '#pragma once\n#include "core/a.h"\n#include "gpu/vulkan/v.h"\n',
-        "src/gpu/vulkan/v.h": '#pragma once\n#include "core/a.h"\n',
-        "src/gpu/compute/c.cpp": '#include "gpu/present/p.h"\n',
-    })
+    root = write_tree(
+        tmp_path,
+        {
+            "shaders/shared.h": "#define SHARED 1\n",
+            "src/core/a.h": '#pragma once\n#include "shared.h"\n',
+            "src/gpu/present/p.h": '#pragma once\n#include "core/a.h"\n#include "gpu/vulkan/v.h"\n',
+            "src/gpu/vulkan/v.h": '#pragma once\n#include "core/a.h"\n',
+            "src/gpu/compute/c.cpp": '#include "gpu/present/p.h"\n',
+        },
+    )
     graph = include_graph(root)
     assert include_cycles(unit_graph(graph)) == []
     assert upward_includes(root, graph) == []
 
 
 def test_a_fragment_belongs_to_the_file_that_includes_it(tmp_path):
-    root = write_tree(tmp_path, {
-        "src/render/k.h": "#pragma once\n",
-        "src/render/k.cc": '#include "render/k-inl.h"\n#include "render/k.h"\n',
-        "src/render/k-inl.h": '#include "render/k.h"\n#include "render/q-inl.h"\n',
-        "src/render/q-inl.h": '#include "core/a.h"\n',
-        "src/core/a.h": "#pragma once\n",
-    })
+    root = write_tree(
+        tmp_path,
+        {
+            "src/render/k.h": "#pragma once\n",
+            "src/render/k.cc": '#include "render/k-inl.h"\n#include "render/k.h"\n',
+            "src/render/k-inl.h": '#include "render/k.h"\n#include "render/q-inl.h"\n',
+            "src/render/q-inl.h": '#include "core/a.h"\n',
+            "src/core/a.h": "#pragma once\n",
+        },
+    )
     units = unit_graph(include_graph(root))
     assert {u.name: [t.name for t in targets] for u, targets in units.items()} == {"k": ["a"], "a": []}
 
@@ -218,23 +235,30 @@ def test_a_fragment_belongs_to_the_file_that_includes_it(tmp_path):
 def test_the_checker_finds_a_cycle_through_a_source_file(tmp_path):
     # As gpu/device.h and gpu/context.h were: device.h includes context.h,
     # whose Context is defined in context.cpp, which includes device.h.
-    root = write_tree(tmp_path, {
-        "src/core/context.h": "#pragma once\nclass Device;\n",
-        "src/core/context.cpp": '#include "core/context.h"\n#include "core/device.h"\n',
-        "src/core/device.h": '#pragma once\n#include "core/context.h"\n',
-    })
+    root = write_tree(
+        tmp_path,
+        {
+            "src/core/context.h": "#pragma once\nclass Device;\n",
+            "src/core/context.cpp": '#include "core/context.h"\n#include "core/device.h"\n',
+            "src/core/device.h": '#pragma once\n#include "core/context.h"\n',
+        },
+    )
     graph = include_graph(root)
     assert include_cycles(graph) == []
     assert [[p.name for p in cycle] for cycle in include_cycles(unit_graph(graph))] == [
-        ["context", "device", "context"]]
+        ["context", "device", "context"]
+    ]
 
 
 def test_the_plumbing_room_includes_nothing_of_the_others(tmp_path):
-    root = write_tree(tmp_path, {
-        "src/gpu/present/p.h": "#pragma once\n",
-        "src/gpu/compute/c.h": "#pragma once\n",
-        "src/gpu/vulkan/v.cpp": '#include "gpu/present/p.h"\n#include "gpu/compute/c.h"\n',
-    })
+    root = write_tree(
+        tmp_path,
+        {
+            "src/gpu/present/p.h": "#pragma once\n",
+            "src/gpu/compute/c.h": "#pragma once\n",
+            "src/gpu/vulkan/v.cpp": '#include "gpu/present/p.h"\n#include "gpu/compute/c.h"\n',
+        },
+    )
     assert upward_includes(root, include_graph(root)) == [
         "src/gpu/vulkan/v.cpp includes src/gpu/present/p.h",
         "src/gpu/vulkan/v.cpp includes src/gpu/compute/c.h",
@@ -247,8 +271,10 @@ def src_graph(repo_root: Path) -> dict[Path, list[Path]]:
 
 
 def test_src_has_no_include_cycle(src_graph, repo_root):
-    cycles = [" -> ".join(str(p.relative_to(repo_root.resolve())) for p in cycle)
-              for cycle in include_cycles(unit_graph(src_graph))]
+    cycles = [
+        " -> ".join(str(p.relative_to(repo_root.resolve())) for p in cycle)
+        for cycle in include_cycles(unit_graph(src_graph))
+    ]
     assert cycles == []
 
 

@@ -104,8 +104,8 @@ void checkRendererOptionsApply(RendererKind kind, const RendererOptionSlots& giv
     if (!*given[i] || definition.accepts(option)) continue;
     if (option == RendererOption::threads && threadCount == 1) continue;
     const std::string flag(schema::kRendererOptionFlags[i]);
-    throw CLI::ValidationError(flag, "renderer " + std::string(nameOf(kind)) + " does not take " + flag + "; " +
-                                         flag + " applies to " + flagsAccepting(option));
+    throw CLI::ValidationError(flag, "renderer " + std::string(nameOf(kind)) + " does not take " + flag + "; " + flag +
+                                         " applies to " + flagsAccepting(option));
   }
 }
 
@@ -157,19 +157,21 @@ void addRendererOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
   const auto slot = [&](RendererOption o) -> CLI::Option*& { return raw.rendererOptions[static_cast<int>(o)]; };
   std::vector<std::string> lanes{"native"};
   for (int width : schema::kLaneWidths) lanes.push_back(std::to_string(width));
-  slot(RendererOption::threads) = app.add_option(flag(RendererOption::threads), config.parallel.threads, "oneTBB threads")
-                                      ->check(CLI::Range(1, 4096))
-                                      ->default_str("all cores");
+  slot(RendererOption::threads) =
+      app.add_option(flag(RendererOption::threads), config.parallel.threads, "oneTBB threads")
+          ->check(CLI::Range(1, 4096))
+          ->default_str("all cores");
   std::string lanesHelp = "pixels per SIMD packet: native (the widest vector)";
   for (std::size_t i = 1; i < lanes.size(); ++i) lanesHelp += "|" + lanes[i];
   slot(RendererOption::lanes) =
       app.add_option(flag(RendererOption::lanes), raw.lanes, lanesHelp)->check(CLI::IsMember(lanes));
-  slot(RendererOption::grain) = app.add_option(flag(RendererOption::grain), config.parallel.grain, "oneTBB grain size in rows")
-                                    ->check(CLI::Range(1, 16384));
+  slot(RendererOption::grain) =
+      app.add_option(flag(RendererOption::grain), config.parallel.grain, "oneTBB grain size in rows")
+          ->check(CLI::Range(1, 16384));
   raw.partition = nameOf(config.parallel.partition);
-  slot(RendererOption::partition) = app.add_option(flag(RendererOption::partition), raw.partition,
-                                                   "oneTBB work split: rows|tiles (rows x 64 px)")
-                                        ->check(CLI::IsMember(namesOf(schema::kPartitionNames)));
+  slot(RendererOption::partition) =
+      app.add_option(flag(RendererOption::partition), raw.partition, "oneTBB work split: rows|tiles (rows x 64 px)")
+          ->check(CLI::IsMember(namesOf(schema::kPartitionNames)));
 }
 
 void addOutputOptions(CLI::App& app, RawOptions& raw) {
@@ -180,8 +182,9 @@ void addOutputOptions(CLI::App& app, RawOptions& raw) {
 
 void addDeviceOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
   app.add_option("--present", raw.present,
-                 joinNames(schema::kPresentModeNames, "|") + ": where Present puts each frame (default: upload into the Vulkan device's present "
-                 "image when a device opens, else none)")
+                 joinNames(schema::kPresentModeNames, "|") +
+                     ": where Present puts each frame (default: upload into the Vulkan device's present "
+                     "image when a device opens, else none)")
       ->check(CLI::IsMember(namesOf(schema::kPresentModeNames)));
   app.add_option("--device", config.device,
                  "Vulkan device: INDEX or NAME-SUBSTRING (default: first discrete GPU, else integrated, else CPU)");
@@ -228,8 +231,9 @@ void applyModelOptions(const RawOptions& raw, RunConfig& config) {
   if (!raw.accel.empty()) config.options.accel = *enumByName<Accel>(schema::kAccelNames, raw.accel);
   if (const auto own = definitionOf(config.renderer).ownAccel) {
     if (!raw.accel.empty() && config.options.accel != *own) {
-      throw CLI::ValidationError("--accel", "renderer " + std::string(nameOf(config.renderer)) + " always uses its own " +
-                                                std::string(nameOf(*own)) + "; --accel " + raw.accel + " does not apply");
+      throw CLI::ValidationError("--accel", "renderer " + std::string(nameOf(config.renderer)) +
+                                                " always uses its own " + std::string(nameOf(*own)) + "; --accel " +
+                                                raw.accel + " does not apply");
     }
     config.options.accel = *own;
   }
@@ -244,7 +248,8 @@ void applyWindowOptions(const RawOptions& raw, RunConfig& config) {
     config.present = PresentMode::window;
   }
   if (config.windowed() && !RT_WINDOW) {
-    throw CLI::ValidationError("--window", "this build has no window (configure with -DRT_WINDOW=ON; Debian: libglfw3-dev)");
+    throw CLI::ValidationError("--window",
+                               "this build has no window (configure with -DRT_WINDOW=ON; Debian: libglfw3-dev)");
   }
   if (!raw.swapchainPresentMode.empty()) {
     if (!config.windowed()) throw CLI::ValidationError("--present-mode", "--present-mode needs --window");
@@ -268,7 +273,8 @@ void applyOutputs(const RawOptions& raw, RunConfig& config) {
   for (const auto& text : raw.saveFrames) {
     SaveFrameRequest request = parseSaveFrame(text);
     if (!config.untilClosed() && request.frame >= config.totalFrames()) {
-      throw CLI::ValidationError("--save-frame", "frame " + std::to_string(request.frame) + " is past the last frame (" +
+      throw CLI::ValidationError("--save-frame", "frame " + std::to_string(request.frame) +
+                                                     " is past the last frame (" +
                                                      std::to_string(config.totalFrames() - 1) + ")");
     }
     requireOutputPath(request.file, "--save-frame");
@@ -323,8 +329,8 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
 std::string versionText() {
   const BuildInfo& b = buildInfo();
   std::ostringstream out;
-  out << "raytracer " << b.version << " (commit " << b.gitCommit << (b.gitDirty ? ", dirty" : "") << ", "
-      << b.buildType << ", " << b.compiler << ")\n"
+  out << "raytracer " << b.version << " (commit " << b.gitCommit << (b.gitDirty ? ", dirty" : "") << ", " << b.buildType
+      << ", " << b.compiler << ")\n"
       << "Tracy client: " << (b.tracyClient.empty() ? "not built in" : b.tracyClient) << "\n"
       << "Window (--window): " << windowLibraryText(b.libraryVersions) << "\n";
   return out.str();

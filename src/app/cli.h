@@ -9,8 +9,8 @@ namespace rt {
 // What the command line asks for: a run, or an answer printed and an exit code.
 struct CliExit {
   int code = 0;
-  std::string output;   // for stdout (help, version)
-  std::string error;    // for stderr
+  std::string output;  // for stdout (help, version)
+  std::string error;   // for stderr
 };
 
 inline constexpr int kExitBadInput = 2;

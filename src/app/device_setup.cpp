@@ -35,8 +35,9 @@ DeviceSetup setUpDevice(const RunConfig& config, std::ostream& notes) {
     return {{PresentMode::upload, gpu::Context::open(options)}, "default: a Vulkan device is open"};
   } catch (const gpu::DeviceUnavailable& e) {
     const std::string reason = "default: no Vulkan device (" + firstLine(e.what()) + ")";
-    if (!config.quiet) notes << "raytracer: note: no Vulkan device, frames are not presented (--present none): "
-                             << firstLine(e.what()) << "\n";
+    if (!config.quiet)
+      notes << "raytracer: note: no Vulkan device, frames are not presented (--present none): " << firstLine(e.what())
+            << "\n";
     return {{PresentMode::none, nullptr}, reason};
   }
 }

@@ -1,8 +1,7 @@
 #pragma once
 #include <iosfwd>
-#include <string>
-
 #include <memory>
+#include <string>
 
 #include "app/run_config.h"
 #include "app/run_identity.h"
@@ -12,7 +11,7 @@ namespace rt {
 namespace gpu {
 class Context;
 class Swapchain;
-}
+}  // namespace gpu
 class WindowSession;
 
 // Where the renderer's Present phase hands its frames: `upload` copies each
@@ -20,14 +19,14 @@ class WindowSession;
 // every renderer; `none` leaves it where it was rendered.
 struct PresentSetup {
   PresentMode mode = PresentMode::none;
-  std::shared_ptr<gpu::Context> device;  // required by `upload` and by the GPU renderer
+  std::shared_ptr<gpu::Context> device;         // required by `upload` and by the GPU renderer
   std::shared_ptr<gpu::Swapchain> swapchain{};  // `window` only: the window's swapchain
 };
 
 // The Vulkan side of a run: the device (if any) and where Present puts frames.
 struct DeviceSetup {
   PresentSetup present;
-  std::string presentReason;  // for the metadata: why this present mode
+  std::string presentReason;                // for the metadata: why this present mode
   std::shared_ptr<WindowSession> window{};  // --window: the window and its events (RT_WINDOW builds)
 };
 

@@ -49,7 +49,6 @@ inline constexpr long long kUntilClosedRecordCapacity = 216'000;
 // Everything the loop touches is allocated before it. With a `view`
 // (--window) it also stops when the window is closed, and with --frames 0
 // only then.
-FrameLoopResult runFrameLoop(Renderer& prepared, const Scene& scene, const RunConfig& config,
-                             LiveView* view = nullptr);
+FrameLoopResult runFrameLoop(Renderer& prepared, const Scene& scene, const RunConfig& config, LiveView* view = nullptr);
 
 }  // namespace rt

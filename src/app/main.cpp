@@ -3,9 +3,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <thread>
 #include <iostream>
 #include <optional>
+#include <thread>
 #include <vector>
 
 #include "app/cli.h"
@@ -48,10 +48,11 @@ void waitForTracyViewer() {
 }
 
 std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) {
-  return std::string(rt::nameOf(id.renderer.kind)) + " scene=" + id.scene + " " + std::to_string(id.extent.width) + "x" +
-         std::to_string(id.extent.height) + " threads=" + std::to_string(id.renderer.threads) +
+  return std::string(rt::nameOf(id.renderer.kind)) + " scene=" + id.scene + " " + std::to_string(id.extent.width) +
+         "x" + std::to_string(id.extent.height) + " threads=" + std::to_string(id.renderer.threads) +
          " lanes=" + std::to_string(id.renderer.lanes) + " target=" + id.renderer.simdTarget +
-         " algorithm=" + std::string(rt::nameOf(id.options.algorithm)) + " early_exit=" + id.options.earlyExits.toString() + " accel=" + std::string(rt::nameOf(id.options.accel)) +
+         " algorithm=" + std::string(rt::nameOf(id.options.algorithm)) +
+         " early_exit=" + id.options.earlyExits.toString() + " accel=" + std::string(rt::nameOf(id.options.accel)) +
          " frames=" + std::to_string(config.warmupFrames) + "+" + std::to_string(config.measuredFrames) +
          " present=" + std::string(rt::nameOf(id.present)) + (id.device ? " device=" + id.device->name : "");
 }

@@ -22,7 +22,7 @@ struct RunConfig {
   Extent extent{800, 600};
   int warmupFrames = 3;
   int measuredFrames = 20;
-  RenderOptions options;  // default: stage "optimized"
+  RenderOptions options;      // default: stage "optimized"
   ParallelSettings parallel;  // --threads, --lanes, --grain, --partition
   std::optional<std::filesystem::path> csvPath;
   std::optional<std::filesystem::path> metaPath;

@@ -41,15 +41,16 @@ RunSummary summarizeRun(Extent extent, std::span<const FrameRecord> records) {
   s.updateMs = summarize(std::move(update));
   s.presentMs = summarize(std::move(present));
   if (!gpu.empty()) s.gpuMs = summarize(std::move(gpu));
-  if (s.renderMs.median > 0.0) s.primaryRaysPerSecond = static_cast<double>(extent.pixelCount()) / (s.renderMs.median * 1e-3);
+  if (s.renderMs.median > 0.0)
+    s.primaryRaysPerSecond = static_cast<double>(extent.pixelCount()) / (s.renderMs.median * 1e-3);
   return s;
 }
 
 std::string formatRunSummary(const RunIdentity& id, const RunSummary& s) {
-  std::string text = format("%s  %s  %dx%d  %s  early_exit=%s  %zu frames\n", std::string(nameOf(id.renderer.kind)).c_str(),
-                            id.scene.c_str(), id.extent.width, id.extent.height,
-                            std::string(nameOf(id.options.algorithm)).c_str(), id.options.earlyExits.toString().c_str(),
-                            s.measuredFrames);
+  std::string text =
+      format("%s  %s  %dx%d  %s  early_exit=%s  %zu frames\n", std::string(nameOf(id.renderer.kind)).c_str(),
+             id.scene.c_str(), id.extent.width, id.extent.height, std::string(nameOf(id.options.algorithm)).c_str(),
+             id.options.earlyExits.toString().c_str(), s.measuredFrames);
   if (!id.renderer.simdTarget.empty() || id.renderer.grain) {
     text += format("  threads=%d  lanes=%d  simd_target=%s\n", id.renderer.threads, id.renderer.lanes,
                    id.renderer.simdTarget.empty() ? "-" : id.renderer.simdTarget.c_str());
@@ -58,7 +59,8 @@ std::string formatRunSummary(const RunIdentity& id, const RunSummary& s) {
                  s.renderMs.min, s.renderMs.max, s.primaryRaysPerSecond * 1e-6);
   text += format("  update_ms  median %.4f   present_ms median %.3f  (present %s)\n", s.updateMs.median,
                  s.presentMs.median, std::string(nameOf(id.present)).c_str());
-  if (s.gpuMs) text += format("  gpu_ms     median %.3f  min %.3f  max %.3f\n", s.gpuMs->median, s.gpuMs->min, s.gpuMs->max);
+  if (s.gpuMs)
+    text += format("  gpu_ms     median %.3f  min %.3f  max %.3f\n", s.gpuMs->median, s.gpuMs->min, s.gpuMs->max);
   if (id.device) text += format("  device     %s (%s)\n", id.device->name.c_str(), id.device->driverInfo.c_str());
   return text;
 }

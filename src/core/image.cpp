@@ -46,8 +46,8 @@ void writePng(const Image& image, const std::filesystem::path& path) {
 
 Image readPng(const std::filesystem::path& path) {
   int w = 0, h = 0, channels = 0;
-  std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> data(
-      stbi_load(path.c_str(), &w, &h, &channels, 4), &stbi_image_free);
+  std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> data(stbi_load(path.c_str(), &w, &h, &channels, 4),
+                                                            &stbi_image_free);
   if (!data) {
     throw std::runtime_error(path.string() + ": cannot read PNG: " + stbi_failure_reason());
   }
@@ -79,8 +79,7 @@ ImageAgreement compareImages(const Image& a, const Image& b) {
   result.maxChannelDifference = maxDiff;
   result.fractionWithinTolerance = pa.empty() ? 1.0 : static_cast<double>(within) / static_cast<double>(pa.size());
   const double mse = pa.empty() ? 0.0 : squaredError / (3.0 * static_cast<double>(pa.size()));
-  result.psnrDb = mse == 0.0 ? std::numeric_limits<double>::infinity()
-                             : 10.0 * std::log10(255.0 * 255.0 / mse);
+  result.psnrDb = mse == 0.0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(255.0 * 255.0 / mse);
   return result;
 }
 

@@ -33,9 +33,7 @@ class Image {
   [[nodiscard]] std::span<Rgba8> row(int y) {
     return std::span(pixels_).subspan(static_cast<std::size_t>(y) * extent_.width, extent_.width);
   }
-  [[nodiscard]] Rgba8 at(int x, int y) const {
-    return pixels_[static_cast<std::size_t>(y) * extent_.width + x];
-  }
+  [[nodiscard]] Rgba8 at(int x, int y) const { return pixels_[static_cast<std::size_t>(y) * extent_.width + x]; }
 
  private:
   Extent extent_;
@@ -52,7 +50,7 @@ struct ImageAgreement {
   double fractionWithinTolerance = 0.0;  // pixels whose every channel differs by <= 2/255
   double psnrDb = 0.0;                   // infinity for identical images
   int maxChannelDifference = 0;
-  [[nodiscard]] bool agrees() const;     // >= 99.5 % within tolerance and >= 40 dB
+  [[nodiscard]] bool agrees() const;  // >= 99.5 % within tolerance and >= 40 dB
 };
 
 ImageAgreement compareImages(const Image& a, const Image& b);

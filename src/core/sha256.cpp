@@ -40,7 +40,8 @@ const Constants& constants() {
   static const Constants c = [] {
     Constants k{};
     const auto primes = firstPrimes();
-    for (std::size_t i = 0; i < 8; ++i) k.initialState[i] = fractionBits(std::sqrt(static_cast<long double>(primes[i])));
+    for (std::size_t i = 0; i < 8; ++i)
+      k.initialState[i] = fractionBits(std::sqrt(static_cast<long double>(primes[i])));
     for (std::size_t i = 0; i < 64; ++i) k.rounds[i] = fractionBits(std::cbrt(static_cast<long double>(primes[i])));
     return k;
   }();
@@ -72,8 +73,14 @@ void Sha256::compressBlock(const std::uint8_t* block) {
     const std::uint32_t sum0 = std::rotr(a, 2) ^ std::rotr(a, 13) ^ std::rotr(a, 22);
     const std::uint32_t majority = (a & b) ^ (a & c) ^ (b & c);
     const std::uint32_t t2 = sum0 + majority;
-    h = g; g = f; f = e; e = d + t1;
-    d = c; c = b; b = a; a = t1 + t2;
+    h = g;
+    g = f;
+    f = e;
+    e = d + t1;
+    d = c;
+    c = b;
+    b = a;
+    a = t1 + t2;
   }
   const std::array<std::uint32_t, 8> add{a, b, c, d, e, f, g, h};
   for (int i = 0; i < 8; ++i) state_[i] += add[i];

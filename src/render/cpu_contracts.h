@@ -22,17 +22,17 @@ namespace rt {
 // from worker `slot`; a span starts at a multiple of alignment().
 template <class K>
 concept CpuKernel = std::constructible_from<K, const ParallelSettings&> &&
-    requires(K kernel, const K& constKernel, const Scene& scene, const RenderOptions& options,
-             const CameraFrame& camera, Image& frame, int n) {
-      { K::kId } -> std::convertible_to<Kernel>;
-      { constKernel.lanes() } -> std::same_as<int>;
-      { constKernel.simdTarget() } -> std::same_as<std::string>;
-      { constKernel.alignment() } -> std::same_as<int>;
-      { constKernel.accelStructure() } -> std::same_as<std::optional<AccelStructureInfo>>;
-      kernel.prepare(scene, options, n);
-      kernel.beginFrame(camera, frame);
-      kernel.renderSpan(n, n, n, n);
-    };
+                    requires(K kernel, const K& constKernel, const Scene& scene, const RenderOptions& options,
+                             const CameraFrame& camera, Image& frame, int n) {
+                      { K::kId } -> std::convertible_to<Kernel>;
+                      { constKernel.lanes() } -> std::same_as<int>;
+                      { constKernel.simdTarget() } -> std::same_as<std::string>;
+                      { constKernel.alignment() } -> std::same_as<int>;
+                      { constKernel.accelStructure() } -> std::same_as<std::optional<AccelStructureInfo>>;
+                      kernel.prepare(scene, options, n);
+                      kernel.beginFrame(camera, frame);
+                      kernel.renderSpan(n, n, n, n);
+                    };
 
 // What a scheduler calls per span: body(slot, y, x0, x1). The archetype
 // of the lambda CpuRenderer passes.
@@ -45,7 +45,8 @@ struct SpanBody {
 // once for every span of the image, each starting at a multiple of
 // `alignment`, from worker slots below threads().
 template <class S>
-concept SpanScheduler = std::constructible_from<S, const ParallelSettings&> &&
+concept SpanScheduler =
+    std::constructible_from<S, const ParallelSettings&> &&
     requires(S scheduler, const S& constScheduler, Extent extent, int alignment, const SpanBody& body) {
       { S::kId } -> std::convertible_to<Scheduler>;
       { constScheduler.threads() } -> std::same_as<int>;

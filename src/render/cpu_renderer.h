@@ -28,8 +28,13 @@ class CpuRenderer final : public Renderer {
       : kernel_(settings), scheduler_(settings), sink_(std::move(sink)) {}
 
   [[nodiscard]] RendererInfo info() const override {
-    return {kKind, scheduler_.threads(), kernel_.lanes(), kernel_.simdTarget(), scheduler_.grain(),
-            scheduler_.partition(), kernel_.accelStructure()};
+    return {kKind,
+            scheduler_.threads(),
+            kernel_.lanes(),
+            kernel_.simdTarget(),
+            scheduler_.grain(),
+            scheduler_.partition(),
+            kernel_.accelStructure()};
   }
 
   void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override {
@@ -50,7 +55,8 @@ class CpuRenderer final : public Renderer {
   }
 
   void readPresented(Image& target) override {
-    if (target.extent() != frame_.extent()) throw std::logic_error("readPresented: target extent differs from the frame's");
+    if (target.extent() != frame_.extent())
+      throw std::logic_error("readPresented: target extent differs from the frame's");
     if (sink_) {
       sink_->readBack(target);  // what really reached the sink
     } else {

@@ -1,6 +1,7 @@
+#include "render/cpu_renderers.h"
+
 #include <string>
 
-#include "render/cpu_renderers.h"
 #include "render/schedule/tbb_scheduler.h"
 #include "render/simd/simd_kernel.h"
 #ifdef RT_HAVE_EMBREE
@@ -14,10 +15,8 @@ template <class Kernel>
 std::unique_ptr<Renderer> withScheduler(Scheduler scheduler, const ParallelSettings& settings,
                                         std::unique_ptr<FrameSink> sink) {
   switch (scheduler) {
-    case Scheduler::serial:
-      return std::make_unique<CpuRenderer<Kernel, SerialScheduler>>(settings, std::move(sink));
-    case Scheduler::tbb:
-      return std::make_unique<CpuRenderer<Kernel, TbbScheduler>>(settings, std::move(sink));
+    case Scheduler::serial: return std::make_unique<CpuRenderer<Kernel, SerialScheduler>>(settings, std::move(sink));
+    case Scheduler::tbb: return std::make_unique<CpuRenderer<Kernel, TbbScheduler>>(settings, std::move(sink));
   }
   throw std::logic_error("unknown scheduler");
 }
@@ -57,12 +56,9 @@ std::unique_ptr<Renderer> makeCpuRenderer(RendererKind kind, const ParallelSetti
     throw RendererUnavailable("renderer '" + std::string(nameOf(kind)) + "' does not run on the CPU");
   }
   switch (*pair.kernel) {
-    case Kernel::scalar:
-      return withScheduler<ScalarKernel>(*pair.scheduler, settings, std::move(sink));
-    case Kernel::simd:
-      return withScheduler<SimdKernel>(*pair.scheduler, settings, std::move(sink));
-    case Kernel::embree:
-      return makeEmbreeRenderer(kind, settings, std::move(sink));
+    case Kernel::scalar: return withScheduler<ScalarKernel>(*pair.scheduler, settings, std::move(sink));
+    case Kernel::simd: return withScheduler<SimdKernel>(*pair.scheduler, settings, std::move(sink));
+    case Kernel::embree: return makeEmbreeRenderer(kind, settings, std::move(sink));
   }
   throw std::logic_error("unknown kernel");
 }

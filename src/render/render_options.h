@@ -50,9 +50,9 @@ RenderOptions optionsForStage(Stage stage);
 struct ParallelSettings {
   static constexpr int kAllCores = 0;
   static constexpr int kNativeLanes = 0;
-  int threads = kAllCores;  // oneTBB worker threads, the calling one included
-  int lanes = kNativeLanes; // pixels per SIMD packet; native = widest vector of the dispatched target
-  int grain = 1;            // oneTBB grain size in rows (blocked_range grainsize)
+  int threads = kAllCores;   // oneTBB worker threads, the calling one included
+  int lanes = kNativeLanes;  // pixels per SIMD packet; native = widest vector of the dispatched target
+  int grain = 1;             // oneTBB grain size in rows (blocked_range grainsize)
   Partition partition = Partition::rows;
 };
 

@@ -15,7 +15,7 @@ struct CameraSpec {
   glm::dvec3 forward{0.0, 0.0, 1.0};  // unit; derived from focusPoint when absent
   double fov = 60.0;                  // degrees, vertical
   std::optional<glm::dvec3> focusPoint;
-  double orbitVelocity = 0.0;         // radians per second of animation time
+  double orbitVelocity = 0.0;  // radians per second of animation time
 
   [[nodiscard]] bool orbits() const { return orbitVelocity != 0.0; }
 };

@@ -103,7 +103,8 @@ class ObjectReader {
 
   // A number whose magnitude is at most kSceneMaxMagnitude.
   double bounded(double value, const std::string& path) const {
-    if (std::abs(value) > schema::kSceneMaxMagnitude) fail(path, formatNumber(value) + " is outside " + magnitudeRange());
+    if (std::abs(value) > schema::kSceneMaxMagnitude)
+      fail(path, formatNumber(value) + " is outside " + magnitudeRange());
     return value;
   }
 
@@ -155,7 +156,8 @@ glm::dvec3 unitOrFail(const ObjectReader& r, glm::dvec3 v, const std::string& pa
   const double length = glm::length(v);
   if (length == 0.0) r.fail(path, "zero-length direction");
   if (!(length >= schema::kSceneMinLength)) {
-    r.fail(path, "direction of length " + formatNumber(length) + " is shorter than " + formatNumber(schema::kSceneMinLength));
+    r.fail(path,
+           "direction of length " + formatNumber(length) + " is shorter than " + formatNumber(schema::kSceneMinLength));
   }
   return v / length;
 }
@@ -252,7 +254,12 @@ std::string parseErrorMessage(const nlohmann::json::parse_error& e, std::string_
   // nlohmann reports a byte offset; people want line and column.
   std::size_t line = 1, column = 1;
   for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-    if (text[i] == '\n') { ++line; column = 1; } else { ++column; }
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
   }
   std::string what = e.what();
   const auto colon = what.rfind(": ");

@@ -18,7 +18,8 @@ constexpr bool kGlfwTakesLoader = GLFW_VERSION_MAJOR > 3 || (GLFW_VERSION_MAJOR 
 thread_local std::string lastGlfwError;
 
 void rememberError(int code, const char* description) {
-  lastGlfwError = std::string(description ? description : "unknown error") + " (GLFW error " + std::to_string(code) + ")";
+  lastGlfwError =
+      std::string(description ? description : "unknown error") + " (GLFW error " + std::to_string(code) + ")";
 }
 
 std::string displayNote() {
@@ -63,8 +64,8 @@ GlfwWindow::GlfwWindow(Extent size, const std::string& title, const std::string&
     state_->loader.handle.reset(dlopen(loaderLibrary.c_str(), RTLD_NOW | RTLD_LOCAL));
     if (!state_->loader.handle) throw gpu::WindowUnavailable("cannot open a window: no Vulkan loader " + loaderLibrary);
 #if GLFW_VERSION_MAJOR > 3 || (GLFW_VERSION_MAJOR == 3 && GLFW_VERSION_MINOR >= 4)
-    glfwInitVulkanLoader(reinterpret_cast<PFN_vkGetInstanceProcAddr>(
-        dlsym(state_->loader.handle.get(), "vkGetInstanceProcAddr")));
+    glfwInitVulkanLoader(
+        reinterpret_cast<PFN_vkGetInstanceProcAddr>(dlsym(state_->loader.handle.get(), "vkGetInstanceProcAddr")));
 #endif
   }
   if (glfwInit() != GLFW_TRUE) fail("GLFW cannot start");

@@ -1,10 +1,11 @@
 #include "app/cli.h"
-#include "app/cli_test_support.h"
 
 #include <gtest/gtest.h>
 
 #include <initializer_list>
 #include <vector>
+
+#include "app/cli_test_support.h"
 
 namespace rt {
 namespace {

@@ -8,8 +8,8 @@
 #include <thread>
 #include <vector>
 
-#include "render/render_test_support.h"
 #include "render/cpu_renderers.h"
+#include "render/render_test_support.h"
 #include "test_support.h"
 
 namespace rt {

@@ -1,11 +1,12 @@
 #include "app/frame_recorder.h"
-#include "app/run_identity.h"
 
 #include <gtest/gtest.h>
 
 #include <charconv>
 #include <sstream>
 #include <vector>
+
+#include "app/run_identity.h"
 
 namespace rt {
 namespace {
@@ -19,10 +20,15 @@ std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
     bool quoted = false;
     for (std::size_t i = 0; i < line.size(); ++i) {
       const char c = line[i];
-      if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') { fields.back() += '"'; ++i; }
-      else if (c == '"') quoted = !quoted;
-      else if (c == ',' && !quoted) fields.emplace_back();
-      else fields.back() += c;
+      if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') {
+        fields.back() += '"';
+        ++i;
+      } else if (c == '"')
+        quoted = !quoted;
+      else if (c == ',' && !quoted)
+        fields.emplace_back();
+      else
+        fields.back() += c;
     }
     rows.push_back(fields);
   }
@@ -30,8 +36,11 @@ std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
 }
 
 RunIdentity identity() {
-  return {"20261122T000000Z-abcdef", "random100", {RendererKind::sequential, 1, 1, "", std::nullopt, std::nullopt},
-          optionsForStage(Stage::single_pass), {800, 600}};
+  return {"20261122T000000Z-abcdef",
+          "random100",
+          {RendererKind::sequential, 1, 1, "", std::nullopt, std::nullopt},
+          optionsForStage(Stage::single_pass),
+          {800, 600}};
 }
 
 std::size_t column(schema::FrameCsvColumn c) { return static_cast<std::size_t>(c); }
@@ -44,9 +53,20 @@ TEST(FrameCsv, HeaderIsTheSchemaColumns) {
 }
 
 TEST(FrameCsv, OneRowPerFrameWithFullPrecision) {
-  const std::vector<FrameRecord> records{
-      {.frame = 0, .warmup = true, .updateMs = 0.1, .renderMs = 123.456789012345, .presentMs = 1e-7, .gpuMs = {}, .acquireMs = {}},
-      {.frame = 1, .warmup = false, .updateMs = 0.2, .renderMs = 1.0 / 3.0, .presentMs = 2.5, .gpuMs = 0.0625, .acquireMs = {}}};
+  const std::vector<FrameRecord> records{{.frame = 0,
+                                          .warmup = true,
+                                          .updateMs = 0.1,
+                                          .renderMs = 123.456789012345,
+                                          .presentMs = 1e-7,
+                                          .gpuMs = {},
+                                          .acquireMs = {}},
+                                         {.frame = 1,
+                                          .warmup = false,
+                                          .updateMs = 0.2,
+                                          .renderMs = 1.0 / 3.0,
+                                          .presentMs = 2.5,
+                                          .gpuMs = 0.0625,
+                                          .acquireMs = {}}};
   const auto rows = parseCsv(formatFrameCsv(identity(), records));
   ASSERT_EQ(rows.size(), 3u);
   for (const auto& row : rows) EXPECT_EQ(row.size(), schema::kFrameCsvColumnNames.size());

@@ -72,8 +72,10 @@ std::vector<std::string> csvRow(const std::string& text, std::size_t line) {
   for (std::size_t i = 0; i <= line; ++i) std::getline(lines, row);
   std::vector<std::string> fields(1);
   for (const char c : row) {
-    if (c == ',') fields.emplace_back();
-    else fields.back() += c;
+    if (c == ',')
+      fields.emplace_back();
+    else
+      fields.back() += c;
   }
   return fields;
 }

@@ -8,7 +8,13 @@ namespace rt {
 namespace {
 
 FrameRecord frame(long long k, bool warmup, double renderMs, std::optional<double> gpuMs = std::nullopt) {
-  return {.frame = k, .warmup = warmup, .updateMs = 0.01, .renderMs = renderMs, .presentMs = 1.0, .gpuMs = gpuMs, .acquireMs = {}};
+  return {.frame = k,
+          .warmup = warmup,
+          .updateMs = 0.01,
+          .renderMs = renderMs,
+          .presentMs = 1.0,
+          .gpuMs = gpuMs,
+          .acquireMs = {}};
 }
 
 TEST(RunSummary, MeasuredFramesOnlyWithTheMedianOfAnEvenCount) {
@@ -24,7 +30,8 @@ TEST(RunSummary, MeasuredFramesOnlyWithTheMedianOfAnEvenCount) {
 }
 
 TEST(RunSummary, GpuTimeWhereMeasuredAndPrinted) {
-  const std::vector<FrameRecord> records{frame(0, false, 2.0, 1.5), frame(1, false, 3.0, 0.5), frame(2, false, 1.0, 1.0)};
+  const std::vector<FrameRecord> records{frame(0, false, 2.0, 1.5), frame(1, false, 3.0, 0.5),
+                                         frame(2, false, 1.0, 1.0)};
   const RunSummary s = summarizeRun({10, 10}, records);
   ASSERT_TRUE(s.gpuMs);
   EXPECT_DOUBLE_EQ(s.gpuMs->median, 1.0);

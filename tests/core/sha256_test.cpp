@@ -12,9 +12,7 @@ std::string hashOf(std::string_view text) {
 }
 
 // Known answers from FIPS 180-4's examples.
-TEST(Sha256, EmptyInput) {
-  EXPECT_EQ(hashOf(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-}
+TEST(Sha256, EmptyInput) { EXPECT_EQ(hashOf(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"); }
 
 TEST(Sha256, ThreeBytes) {
   EXPECT_EQ(hashOf("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");

@@ -1,15 +1,14 @@
 // The CPU renderers, each a (kernel, scheduler) pair: the sequential
 // reference against the double-precision model, and what the threaded ones
 // must keep (thread counts change no pixel, settings reach RendererInfo).
-#include "render/cpu_renderers.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
-#include "render/scalar/double_reference.h"
 #include "render/accel/accel_scenes.h"
+#include "render/cpu_renderers.h"
 #include "render/render_test_support.h"
+#include "render/scalar/double_reference.h"
 #include "test_support.h"
 
 namespace rt {
@@ -61,10 +60,12 @@ TEST_P(PerScene, AgreesWithDoublePrecisionModel) {
 TEST_P(PerScene, SinglePassAgreesWithTwoPass) {
   for (Extent extent : {kSmall, kOdd}) {
     for (long long frame : kFrames) {
-      const Image single = test::renderFrame(renderer, scene, extent, options(Algorithm::single_pass, kBounceOnly), frame);
+      const Image single =
+          test::renderFrame(renderer, scene, extent, options(Algorithm::single_pass, kBounceOnly), frame);
       const Image twoPass = test::renderFrame(renderer, scene, extent, options(Algorithm::two_pass, {}), frame);
       const ImageAgreement a = compareImages(single, twoPass);
-      EXPECT_TRUE(a.agrees()) << extent.width << "x" << extent.height << " frame " << frame << ": " << test::describe(a);
+      EXPECT_TRUE(a.agrees()) << extent.width << "x" << extent.height << " frame " << frame << ": "
+                              << test::describe(a);
     }
   }
 }
@@ -139,7 +140,6 @@ TEST(Threads, OneAndManyThreadsGiveIdenticalImages) {
   }
 }
 
-
 TEST(Threads, SimdTbbEqualsSimdOnlyAndTbbOnlyEqualsSequential) {
   const Scene scene = test::loadNamedScene("random20");
   const RenderOptions options = optionsForStage(Stage::optimized);
@@ -149,7 +149,6 @@ TEST(Threads, SimdTbbEqualsSimdOnlyAndTbbOnlyEqualsSequential) {
   EXPECT_TRUE(std::ranges::equal(render(RendererKind::tbb_only, {}, scene, kOdd, options).pixels(),
                                  test::renderFrame(sequential, scene, kOdd, options, kFrame).pixels()));
 }
-
 
 TEST(RendererInfo, ReportsTheParallelSettings) {
   const RendererInfo tbb = makeCpuRenderer(RendererKind::simd_tbb, threads(3, Partition::tiles, 5))->info();

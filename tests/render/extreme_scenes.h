@@ -7,10 +7,9 @@
 // highlight, the normal facing the ray). Built through the loader, so each is a
 // scene a user could write.
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/image.h"
 #include "render/accel/accel_scenes.h"
@@ -50,8 +49,10 @@ inline Scene extremeScene(const std::string& name) {
     for (int i = 0; i < 4; ++i) spheres.push_back(sphereJson(big - 3.0 * i, big - 1.0 * i, big, 1.0, 0.3 * i));
     spheres.push_back(sphereJson(-big, -big, -big, big, 0.5));
     spheres.push_back(sphereJson(big, -big, big, 1.0, 0.9));
-    camera = {{"position", {big - 4, big - 1, big - 12}}, {"focusPoint", {big - 4, big - 1.5, big}},
-              {"orbitVelocity", 0.5}, {"fov", 60}};
+    camera = {{"position", {big - 4, big - 1, big - 12}},
+              {"focusPoint", {big - 4, big - 1.5, big}},
+              {"orbitVelocity", 0.5},
+              {"fov", 60}};
   } else if (name == "radius-1e-6") {
     // Spheres of the smallest radius, one on the optical axis, where the
     // middle pixel's ray of an odd-sized image passes through its centre.

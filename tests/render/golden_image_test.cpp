@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "render/scalar/double_reference.h"
-#include "render/render_test_support.h"
 #include "render/cpu_renderers.h"
+#include "render/render_test_support.h"
+#include "render/scalar/double_reference.h"
 #include "test_support.h"
 
 namespace rt {
@@ -28,7 +28,8 @@ TEST_P(GoldenImage, SequentialRendererMatchesCommittedReference) {
   const Scene scene = test::loadNamedScene("default");
   const RenderOptions options = optionsForStage(Stage::optimized);
   if (std::getenv("RT_UPDATE_GOLDEN") != nullptr) {
-    writePng(renderDoubleReference(scene, cameraAtFrame(scene.camera, frame), kGoldenExtent, options), goldenPath(frame));
+    writePng(renderDoubleReference(scene, cameraAtFrame(scene.camera, frame), kGoldenExtent, options),
+             goldenPath(frame));
   }
   const Image reference = readPng(goldenPath(frame));
   ASSERT_EQ(reference.extent(), kGoldenExtent);

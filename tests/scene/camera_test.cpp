@@ -57,8 +57,8 @@ TEST(Camera, OrbitRotatesRightHandedAboutY) {
   const CameraFrame cam = cameraAtFrame(orbitingCamera(), k);
   const double angle = 0.5 * static_cast<double>(k) / 60.0;
   // x' = cos a x + sin a z, z' = -sin a x + cos a z, with (x, z) = (0, -6)
-  expectNear(cam.position, {static_cast<float>(-6.0 * std::sin(angle)), 1.0f,
-                            static_cast<float>(-6.0 * std::cos(angle))}, 1e-5f);
+  expectNear(cam.position,
+             {static_cast<float>(-6.0 * std::sin(angle)), 1.0f, static_cast<float>(-6.0 * std::cos(angle))}, 1e-5f);
   EXPECT_NEAR(cam.position.x, -6.0f, 1e-2f);
   expectNear(cam.forward, glm::normalize(-cam.position), 1e-6f);
 }
@@ -71,7 +71,7 @@ TEST(Camera, FrameDependsOnlyOnItsIndex) {
   EXPECT_EQ(direct.position, again.position);
   EXPECT_EQ(direct.forward, again.forward);
   EXPECT_NEAR(glm::length(direct.position), std::sqrt(37.0f), 1e-5f);  // orbit keeps the distance
-  EXPECT_FLOAT_EQ(direct.position.y, 1.0f);                           // and the height
+  EXPECT_FLOAT_EQ(direct.position.y, 1.0f);                            // and the height
 }
 
 TEST(Camera, StaticCameraIgnoresTheFrameIndex) {

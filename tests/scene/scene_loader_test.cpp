@@ -106,9 +106,7 @@ TEST(SceneLoader, RejectsMalformedJsonWithLineAndColumn) {
   }
 }
 
-TEST(SceneLoader, RejectsMissingFile) {
-  EXPECT_THROW(loadScene("/nonexistent/scene.json"), SceneError);
-}
+TEST(SceneLoader, RejectsMissingFile) { EXPECT_THROW(loadScene("/nonexistent/scene.json"), SceneError); }
 
 TEST(SceneLoader, RejectsMissingRequiredFields) {
   EXPECT_EQ(rejectionPath([](Json& j) { j.erase("camera"); }), "camera");
@@ -117,8 +115,7 @@ TEST(SceneLoader, RejectsMissingRequiredFields) {
   EXPECT_EQ(rejectionPath([](Json& j) { j["camera"].erase("position"); }), "camera.position");
   EXPECT_EQ(rejectionPath([](Json& j) { j["camera"].erase("fov"); }), "camera.fov");
   EXPECT_EQ(rejectionPath([](Json& j) { j["spheres"][1].erase("radius"); }), "spheres[1].radius");
-  EXPECT_EQ(rejectionPath([](Json& j) { j["lightData"].erase("ambientLightColor"); }),
-            "lightData.ambientLightColor");
+  EXPECT_EQ(rejectionPath([](Json& j) { j["lightData"].erase("ambientLightColor"); }), "lightData.ambientLightColor");
 }
 
 TEST(SceneLoader, RejectsNeitherForwardNorFocusPoint) {

@@ -66,9 +66,9 @@ struct SpecializationConstants {
   std::uint32_t twoPass;     // VkBool32
   std::uint32_t bounceExit;  // VkBool32
   std::int32_t maxDepth;
-  std::uint32_t useBvh = 0;  // VkBool32: --accel bvh
-  float bvhMaxRadius = 0.0f;       // Bvh::maxRadius and maxCoordinate, for the
-  float bvhMaxCoordinate = 0.0f;   // traversal pad; unused without the BVH
+  std::uint32_t useBvh = 0;       // VkBool32: --accel bvh
+  float bvhMaxRadius = 0.0f;      // Bvh::maxRadius and maxCoordinate, for the
+  float bvhMaxCoordinate = 0.0f;  // traversal pad; unused without the BVH
 };
 
 std::vector<GPUSphere> toGpuSpheres(std::span<const Sphere> spheres);

@@ -7,12 +7,12 @@
 #include <stdexcept>
 
 #include "core/profiler.h"
+#include "gpu/compute/gpu_layout.h"
+#include "gpu/compute/raytrace_pipeline.h"
+#include "gpu/present/present_image.h"
+#include "gpu/present/swapchain.h"
 #include "gpu/vulkan/context.h"
 #include "gpu/vulkan/gpu_profiler.h"
-#include "gpu/compute/gpu_layout.h"
-#include "gpu/present/present_image.h"
-#include "gpu/compute/raytrace_pipeline.h"
-#include "gpu/present/swapchain.h"
 #include "gpu/vulkan/timestamps.h"
 #include "render/accel/bvh.h"
 
@@ -26,7 +26,7 @@ using Access = vk::AccessFlagBits;
 // copies (present, readback) in TRANSFER_SRC_OPTIMAL.
 constexpr ImageState kShaderWrite{PipelineStage::eComputeShader, Access::eShaderWrite, vk::ImageLayout::eGeneral};
 constexpr ImageState kTransferRead{PipelineStage::eTransfer, Access::eTransferRead,
-                                        vk::ImageLayout::eTransferSrcOptimal};
+                                   vk::ImageLayout::eTransferSrcOptimal};
 
 SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
   SpecializationConstants constants{.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
@@ -54,8 +54,8 @@ Buffer uploadStorage(const Device& device, CommandRunner& runner, std::span<cons
   runner.run("scene upload", [&](const vk::raii::CommandBuffer& cb) {
     cb.copyBuffer(staging.handle(), target.handle(), vk::BufferCopy{.size = bytes.size()});
     // The data is written before any dispatch reads it.
-    bufferBarrier(cb, target.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
-                  PipelineStage::eComputeShader, Access::eShaderRead);
+    bufferBarrier(cb, target.handle(), PipelineStage::eTransfer, Access::eTransferWrite, PipelineStage::eComputeShader,
+                  Access::eShaderRead);
   });
   return target;
 }
@@ -98,8 +98,7 @@ struct GPURenderer::SceneObjects {
         pipeline(d.device, specializationFor(s, options, accel.bvh())),
         spheres(uploadStorage(d.device, d.runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
         bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d.device, d.runner, *accel.bvh()) : std::nullopt),
-        output(d.device, e,
-               vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc),
+        output(d.device, e, vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc),
         bindings(d.device, pipeline, sceneBuffers(), output),
         readback(d.device, frameBytes(e), vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback) {
     if (mode == PresentMode::upload) presentImage.emplace(d.device, d.runner, e);
@@ -115,7 +114,7 @@ struct GPURenderer::SceneObjects {
   DeviceImage output;
   RaytraceBindings bindings;
   Buffer readback;
-  std::optional<PresentImage> presentImage;  // mode upload only
+  std::optional<PresentImage> presentImage;                    // mode upload only
   vk::ImageLayout outputLayout = vk::ImageLayout::eUndefined;  // as the last submitted commands left it
 
   // The buffers the shader binds. Without a BVH the spheres stand in for
@@ -139,9 +138,10 @@ struct GPURenderer::SceneObjects {
 GPURenderer::GPURenderer(std::shared_ptr<Context> device, PresentMode present, std::shared_ptr<Swapchain> window)
     : context_(std::move(device)), presentMode_(present), window_(std::move(window)) {
   if (!context_) throw std::invalid_argument("the GPU renderer needs a Vulkan device");
-  if (presentMode_ == PresentMode::window && !window_) throw std::invalid_argument("present mode 'window' needs a swapchain");
-  device_ = translateVulkanErrors("GPU renderer set-up",
-                                       [&] { return std::make_unique<DeviceObjects>(context_->device()); });
+  if (presentMode_ == PresentMode::window && !window_)
+    throw std::invalid_argument("present mode 'window' needs a swapchain");
+  device_ =
+      translateVulkanErrors("GPU renderer set-up", [&] { return std::make_unique<DeviceObjects>(context_->device()); });
 }
 
 GPURenderer::~GPURenderer() {
@@ -190,8 +190,7 @@ void GPURenderer::render(const CameraFrame& camera) {
       timer.recordReset(cb);
       // The last frame's copies out of the image finish before the shader
       // overwrites it; from UNDEFINED, since every pixel is written anew.
-      imageBarrier(cb, s.output.handle(), {PipelineStage::eTransfer, {}, vk::ImageLayout::eUndefined},
-                        kShaderWrite);
+      imageBarrier(cb, s.output.handle(), {PipelineStage::eTransfer, {}, vk::ImageLayout::eUndefined}, kShaderWrite);
       s.pipeline.recordBind(cb, s.bindings.set(), constants);
       TracyVkZone(profiler.context(), *cb, "raytrace dispatch");
       timer.recordStart(cb);

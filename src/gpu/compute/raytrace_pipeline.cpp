@@ -41,15 +41,17 @@ constexpr std::array<vk::SpecializationMapEntry, 6> kSpecializationEntries{{
 
 vk::raii::DescriptorSetLayout createSetLayout(const Device& device) {
   return vk::raii::DescriptorSetLayout(
-      device.logical(), vk::DescriptorSetLayoutCreateInfo{.bindingCount = kBindings.size(), .pBindings = kBindings.data()});
+      device.logical(),
+      vk::DescriptorSetLayoutCreateInfo{.bindingCount = kBindings.size(), .pBindings = kBindings.data()});
 }
 
 vk::raii::PipelineLayout createPipelineLayout(const Device& device, const vk::raii::DescriptorSetLayout& setLayout) {
   const vk::DescriptorSetLayout set = *setLayout;
-  return vk::raii::PipelineLayout(device.logical(), vk::PipelineLayoutCreateInfo{.setLayoutCount = 1,
-                                                                                 .pSetLayouts = &set,
-                                                                                 .pushConstantRangeCount = 1,
-                                                                                 .pPushConstantRanges = &kPushConstants});
+  return vk::raii::PipelineLayout(device.logical(),
+                                  vk::PipelineLayoutCreateInfo{.setLayoutCount = 1,
+                                                               .pSetLayouts = &set,
+                                                               .pushConstantRangeCount = 1,
+                                                               .pPushConstantRanges = &kPushConstants});
 }
 
 vk::raii::Pipeline createPipeline(const Device& device, const vk::raii::PipelineLayout& layout,
@@ -98,9 +100,9 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
                                             .pPoolSizes = kSizes.data()};
       }()) {
   const vk::DescriptorSetLayout layout = *pipeline.setLayout();
-  vk::raii::DescriptorSets sets(device.logical(), vk::DescriptorSetAllocateInfo{.descriptorPool = *pool_,
-                                                                                .descriptorSetCount = 1,
-                                                                                .pSetLayouts = &layout});
+  vk::raii::DescriptorSets sets(
+      device.logical(),
+      vk::DescriptorSetAllocateInfo{.descriptorPool = *pool_, .descriptorSetCount = 1, .pSetLayouts = &layout});
   set_ = std::move(sets.front());
 
   const auto whole = [](vk::Buffer buffer) {
@@ -109,7 +111,7 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
   const std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{
       whole(buffers.spheres), whole(buffers.bvhNodes), whole(buffers.bvhOrder)};
   const std::array<std::uint32_t, kStorageBufferBindings> bufferSlots{RT_BINDING_SPHERES, RT_BINDING_BVH_NODES,
-                                                                     RT_BINDING_BVH_ORDER};
+                                                                      RT_BINDING_BVH_ORDER};
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};
   std::array<vk::WriteDescriptorSet, kStorageBufferBindings + 1> writes{};
   for (std::size_t i = 0; i < kStorageBufferBindings; ++i) {

@@ -29,9 +29,8 @@ FrameUpload::~FrameUpload() = default;
 void FrameUpload::prepare(Extent extent) {
   if (resources_ && resources_->extent == extent) return;
   resources_.reset();  // the old present image goes before the new one is made
-  resources_ = translateVulkanErrors("present set-up", [&] {
-    return std::make_unique<Resources>(context_->device(), extent);
-  });
+  resources_ =
+      translateVulkanErrors("present set-up", [&] { return std::make_unique<Resources>(context_->device(), extent); });
 }
 
 FrameUpload::Resources& FrameUpload::prepared() {
@@ -44,7 +43,8 @@ void FrameUpload::present(std::span<const Rgba8> frame) {
   if (frame.size() != r.extent.pixelCount()) throw std::logic_error("FrameUpload: frame size differs from the extent");
   translateVulkanErrors("present", [&] {
     copyFromFrame(frame, r.staging);
-    r.runner.run("present", [&](const vk::raii::CommandBuffer& cb) { r.presentImage.recordCopyFrom(cb, r.staging.handle()); });
+    r.runner.run("present",
+                 [&](const vk::raii::CommandBuffer& cb) { r.presentImage.recordCopyFrom(cb, r.staging.handle()); });
   });
 }
 

@@ -11,11 +11,12 @@ constexpr ImageState kSteady{Stage::eTransfer, Access::eTransferWrite, Layout::e
 
 vk::ImageCopy wholeImageCopy(Extent extent) {
   const vk::ImageSubresourceLayers layers{vk::ImageAspectFlagBits::eColor, 0, 0, 1};
-  return vk::ImageCopy{.srcSubresource = layers,
-                       .srcOffset = {0, 0, 0},
-                       .dstSubresource = layers,
-                       .dstOffset = {0, 0, 0},
-                       .extent = {static_cast<std::uint32_t>(extent.width), static_cast<std::uint32_t>(extent.height), 1}};
+  return vk::ImageCopy{
+      .srcSubresource = layers,
+      .srcOffset = {0, 0, 0},
+      .dstSubresource = layers,
+      .dstOffset = {0, 0, 0},
+      .extent = {static_cast<std::uint32_t>(extent.width), static_cast<std::uint32_t>(extent.height), 1}};
 }
 
 }  // namespace
@@ -40,7 +41,8 @@ void PresentImage::recordCopyFrom(const vk::raii::CommandBuffer& cb, vk::Buffer 
 
 void PresentImage::recordCopyFrom(const vk::raii::CommandBuffer& cb, vk::Image source) const {
   recordBeforeWrite(cb);
-  cb.copyImage(source, Layout::eTransferSrcOptimal, image_.handle(), Layout::eTransferDstOptimal, wholeImageCopy(extent()));
+  cb.copyImage(source, Layout::eTransferSrcOptimal, image_.handle(), Layout::eTransferDstOptimal,
+               wholeImageCopy(extent()));
 }
 
 void PresentImage::recordReadback(const vk::raii::CommandBuffer& cb, vk::Buffer destination) const {

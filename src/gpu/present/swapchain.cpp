@@ -44,8 +44,7 @@ vk::SurfaceFormatKHR chooseFormat(const Device& device, const vk::raii::SurfaceK
 SwapchainPresentMode grantedMode(const Device& device, const vk::raii::SurfaceKHR& surface,
                                  SwapchainPresentMode requested) {
   const auto modes = device.physical().getSurfacePresentModesKHR(*surface);
-  return std::ranges::find(modes, vulkanPresentMode(requested)) != modes.end() ? requested
-                                                                              : SwapchainPresentMode::fifo;
+  return std::ranges::find(modes, vulkanPresentMode(requested)) != modes.end() ? requested : SwapchainPresentMode::fifo;
 }
 
 std::uint32_t imageCountFor(const vk::SurfaceCapabilitiesKHR& caps) {
@@ -58,8 +57,8 @@ std::uint32_t imageCountFor(const vk::SurfaceCapabilitiesKHR& caps) {
 // Where a frame of `frame` size lands in an image of `target` size: as large
 // as fits with its aspect ratio, centred.
 std::array<vk::Offset3D, 2> fittedRegion(Extent frame, vk::Extent2D target) {
-  const double scale = std::min(static_cast<double>(target.width) / frame.width,
-                                static_cast<double>(target.height) / frame.height);
+  const double scale =
+      std::min(static_cast<double>(target.width) / frame.width, static_cast<double>(target.height) / frame.height);
   const auto w = std::clamp(static_cast<std::int32_t>(std::lround(frame.width * scale)), 1,
                             static_cast<std::int32_t>(target.width));
   const auto h = std::clamp(static_cast<std::int32_t>(std::lround(frame.height * scale)), 1,
@@ -132,27 +131,26 @@ bool Swapchain::create() {
   vk::Extent2D extent = caps.currentExtent;
   if (extent.width == std::numeric_limits<std::uint32_t>::max()) {  // the surface takes the swapchain's size
     const Extent window = host_->framebufferSize();
-    extent = vk::Extent2D{std::clamp(static_cast<std::uint32_t>(window.width), caps.minImageExtent.width,
-                                     caps.maxImageExtent.width),
-                          std::clamp(static_cast<std::uint32_t>(window.height), caps.minImageExtent.height,
-                                     caps.maxImageExtent.height)};
+    extent = vk::Extent2D{
+        std::clamp(static_cast<std::uint32_t>(window.width), caps.minImageExtent.width, caps.maxImageExtent.width),
+        std::clamp(static_cast<std::uint32_t>(window.height), caps.minImageExtent.height, caps.maxImageExtent.height)};
   }
   if (extent.width == 0 || extent.height == 0) return false;  // minimised meanwhile
   const bool composeOpaque = static_cast<bool>(caps.supportedCompositeAlpha & vk::CompositeAlphaFlagBitsKHR::eOpaque);
-  const vk::SwapchainCreateInfoKHR request{
-      .surface = *surface_,
-      .minImageCount = imageCountFor(caps),
-      .imageFormat = format_.format,
-      .imageColorSpace = format_.colorSpace,
-      .imageExtent = extent,
-      .imageArrayLayers = 1,
-      .imageUsage = vk::ImageUsageFlagBits::eTransferDst,
-      .imageSharingMode = vk::SharingMode::eExclusive,
-      .preTransform = caps.currentTransform,
-      .compositeAlpha = composeOpaque ? vk::CompositeAlphaFlagBitsKHR::eOpaque : vk::CompositeAlphaFlagBitsKHR::eInherit,
-      .presentMode = presentMode_,
-      .clipped = VK_TRUE,
-      .oldSwapchain = *swapchain_};
+  const vk::SwapchainCreateInfoKHR request{.surface = *surface_,
+                                           .minImageCount = imageCountFor(caps),
+                                           .imageFormat = format_.format,
+                                           .imageColorSpace = format_.colorSpace,
+                                           .imageExtent = extent,
+                                           .imageArrayLayers = 1,
+                                           .imageUsage = vk::ImageUsageFlagBits::eTransferDst,
+                                           .imageSharingMode = vk::SharingMode::eExclusive,
+                                           .preTransform = caps.currentTransform,
+                                           .compositeAlpha = composeOpaque ? vk::CompositeAlphaFlagBitsKHR::eOpaque
+                                                                           : vk::CompositeAlphaFlagBitsKHR::eInherit,
+                                           .presentMode = presentMode_,
+                                           .clipped = VK_TRUE,
+                                           .oldSwapchain = *swapchain_};
   if (*swapchain_) ++info_.recreations;
   swapchain_ = vk::raii::SwapchainKHR(d.logical(), request);  // the old one goes after the new one exists
   extent_ = extent;

@@ -63,7 +63,8 @@ SwapchainUpload::Resources& SwapchainUpload::prepared() {
 
 void SwapchainUpload::present(std::span<const Rgba8> frame) {
   Resources& r = prepared();
-  if (frame.size() != r.extent.pixelCount()) throw std::logic_error("SwapchainUpload: frame size differs from the extent");
+  if (frame.size() != r.extent.pixelCount())
+    throw std::logic_error("SwapchainUpload: frame size differs from the extent");
   translateVulkanErrors("present", [&] {
     swapchain_->present(r.frame.handle(), r.extent, [&](const vk::raii::CommandBuffer& cb, std::uint32_t slot) {
       // The slot's fence has signalled: its last copy out of this buffer is done.

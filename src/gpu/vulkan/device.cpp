@@ -13,7 +13,6 @@ namespace {
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 constexpr std::uint32_t kApiVersion = VK_MAKE_API_VERSION(0, kRequiredApiMajor, kRequiredApiMinor, 0);
 
-
 std::string versionString(std::uint32_t v) {
   return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
          std::to_string(VK_API_VERSION_PATCH(v));
@@ -27,21 +26,20 @@ std::string versionString(std::uint32_t v) {
 // function types.
 template <typename Severity, typename Types, typename CallbackData>
 VKAPI_ATTR VkBool32 VKAPI_CALL countMessage(Severity severity, Types /*types*/, const CallbackData* data, void* user) {
-  const bool error =
-      (static_cast<VkDebugUtilsMessageSeverityFlagBitsEXT>(severity) & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) != 0;
+  const bool error = (static_cast<VkDebugUtilsMessageSeverityFlagBitsEXT>(severity) &
+                      VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) != 0;
   static_cast<ValidationCounter*>(user)->add(error);
   std::fprintf(stderr, "vulkan %s: %s\n", error ? "error" : "warning", data->pMessage ? data->pMessage : "");
   return VK_FALSE;  // never abort the call: the count is what fails a test
 }
 
 vk::DebugUtilsMessengerCreateInfoEXT messengerCreateInfo(ValidationCounter& counter) {
-  vk::DebugUtilsMessengerCreateInfoEXT info{
-      .messageSeverity =
-          vk::DebugUtilsMessageSeverityFlagBitsEXT::eWarning | vk::DebugUtilsMessageSeverityFlagBitsEXT::eError,
-      .messageType = vk::DebugUtilsMessageTypeFlagBitsEXT::eGeneral |
-                     vk::DebugUtilsMessageTypeFlagBitsEXT::eValidation |
-                     vk::DebugUtilsMessageTypeFlagBitsEXT::ePerformance,
-      .pUserData = &counter};
+  vk::DebugUtilsMessengerCreateInfoEXT info{.messageSeverity = vk::DebugUtilsMessageSeverityFlagBitsEXT::eWarning |
+                                                               vk::DebugUtilsMessageSeverityFlagBitsEXT::eError,
+                                            .messageType = vk::DebugUtilsMessageTypeFlagBitsEXT::eGeneral |
+                                                           vk::DebugUtilsMessageTypeFlagBitsEXT::eValidation |
+                                                           vk::DebugUtilsMessageTypeFlagBitsEXT::ePerformance,
+                                            .pUserData = &counter};
   info.pfnUserCallback = &countMessage;  // the template's arguments come from the member's type
   return info;
 }
@@ -174,7 +172,8 @@ PhysicalDeviceChoice describe(vk::raii::PhysicalDevice physical, std::uint32_t i
 vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, std::uint32_t queueFamily,
                                      const DeviceInfo& described, bool swapchain) {
   const float priority = 1.0f;
-  const vk::DeviceQueueCreateInfo queue{.queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
+  const vk::DeviceQueueCreateInfo queue{
+      .queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
   std::vector<const char*> extensions;
   // A portability implementation (MoltenVK) must have its subset enabled.
   if (hasExtension(physical.enumerateDeviceExtensionProperties(), "VK_KHR_portability_subset")) {
@@ -249,8 +248,10 @@ Device::Device(const ContextOptions& options) : instance_(options) {
   std::vector<DeviceInfo> infos;
   for (const auto& c : candidates) infos.push_back(c.info);
   if (infos.empty()) {
-    throw DeviceUnavailable("the Vulkan loader reports no physical device (Debian: mesa-vulkan-drivers provides "
-                            "lavapipe)" + loaderEnvironmentNote());
+    throw DeviceUnavailable(
+        "the Vulkan loader reports no physical device (Debian: mesa-vulkan-drivers provides "
+        "lavapipe)" +
+        loaderEnvironmentNote());
   }
   PhysicalDeviceChoice& chosen = candidates[chooseDevice(infos, options.deviceSelector)];
   info_ = chosen.info;

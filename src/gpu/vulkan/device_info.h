@@ -26,11 +26,11 @@ struct DeviceInfo {
   DeviceType type = DeviceType::other;
   std::uint32_t vendorId = 0;
   std::uint32_t deviceId = 0;
-  std::string driverName{};   // VkPhysicalDeviceDriverProperties::driverName ("llvmpipe", "NVIDIA")
-  std::string driverInfo{};   // e.g. "Mesa 22.3.6 (LLVM 15.0.6)", "580.159.04"
+  std::string driverName{};     // VkPhysicalDeviceDriverProperties::driverName ("llvmpipe", "NVIDIA")
+  std::string driverInfo{};     // e.g. "Mesa 22.3.6 (LLVM 15.0.6)", "580.159.04"
   std::string driverVersion{};  // driverVersion decoded by the vendor's convention
   std::uint32_t driverVersionRaw = 0;
-  std::string apiVersion{};   // "1.3.230"
+  std::string apiVersion{};              // "1.3.230"
   double timestampPeriodNs = 0.0;        // nanoseconds per timestamp tick
   std::uint32_t timestampValidBits = 0;  // of the queue family used; 0: no timestamps
   std::string unsuitableReason{};        // empty when the renderer can run on it

@@ -11,10 +11,10 @@ GpuProfiler::GpuProfiler(const Device& device, CommandRunner& runner) : runner_(
       reinterpret_cast<PFN_vkGetDeviceProcAddr>(getInstanceProcAddr(instance, "vkGetDeviceProcAddr"));
   // Tracy records its calibration into the runner's idle command buffer and
   // submits it itself, waiting for the queue.
-  context_ = TracyVkContext(instance, static_cast<VkPhysicalDevice>(*device.physical()),
-                            static_cast<VkDevice>(*device.logical()), static_cast<VkQueue>(*device.queue()),
-                            static_cast<VkCommandBuffer>(*runner.idleCommandBuffer()), getInstanceProcAddr,
-                            getDeviceProcAddr);
+  context_ =
+      TracyVkContext(instance, static_cast<VkPhysicalDevice>(*device.physical()),
+                     static_cast<VkDevice>(*device.logical()), static_cast<VkQueue>(*device.queue()),
+                     static_cast<VkCommandBuffer>(*runner.idleCommandBuffer()), getInstanceProcAddr, getDeviceProcAddr);
   static constexpr char kName[] = "Vulkan queue";
   TracyVkContextName(context_, kName, sizeof kName - 1);
 }

@@ -31,8 +31,8 @@ MemoryChoice memoryFor(MemoryUse use) {
 
 vk::raii::DeviceMemory allocate(const Device& device, const vk::MemoryRequirements& requirements,
                                 std::uint32_t typeIndex) {
-  return vk::raii::DeviceMemory(device.logical(),
-                                vk::MemoryAllocateInfo{.allocationSize = requirements.size, .memoryTypeIndex = typeIndex});
+  return vk::raii::DeviceMemory(
+      device.logical(), vk::MemoryAllocateInfo{.allocationSize = requirements.size, .memoryTypeIndex = typeIndex});
 }
 
 }  // namespace
@@ -40,9 +40,7 @@ vk::raii::DeviceMemory allocate(const Device& device, const vk::MemoryRequiremen
 // Buffer ======================================================================
 
 Buffer::Buffer(const Device& device, vk::DeviceSize size, vk::BufferUsageFlags usage, MemoryUse use)
-    : device_(&device),
-      size_(size),
-      buffer_(device.logical(), vk::BufferCreateInfo{.size = size, .usage = usage}) {
+    : device_(&device), size_(size), buffer_(device.logical(), vk::BufferCreateInfo{.size = size, .usage = usage}) {
   const vk::MemoryRequirements requirements = buffer_.getMemoryRequirements();
   const MemoryChoice choice = memoryFor(use);
   const std::uint32_t type = device.memoryTypeIndex(requirements.memoryTypeBits, choice.required, choice.preferred);
@@ -71,29 +69,27 @@ void Buffer::invalidateForHost() const {
 
 DeviceImage::DeviceImage(const Device& device, Extent extent, vk::ImageUsageFlags usage)
     : extent_(extent),
-      image_(device.logical(),
-             vk::ImageCreateInfo{.imageType = vk::ImageType::e2D,
-                                 .format = kFrameFormat,
-                                 .extent = {static_cast<std::uint32_t>(extent.width),
-                                            static_cast<std::uint32_t>(extent.height), 1},
-                                 .mipLevels = 1,
-                                 .arrayLayers = 1,
-                                 .samples = vk::SampleCountFlagBits::e1,
-                                 .tiling = vk::ImageTiling::eOptimal,
-                                 .usage = usage,
-                                 .sharingMode = vk::SharingMode::eExclusive,
-                                 .initialLayout = vk::ImageLayout::eUndefined}) {
+      image_(device.logical(), vk::ImageCreateInfo{.imageType = vk::ImageType::e2D,
+                                                   .format = kFrameFormat,
+                                                   .extent = {static_cast<std::uint32_t>(extent.width),
+                                                              static_cast<std::uint32_t>(extent.height), 1},
+                                                   .mipLevels = 1,
+                                                   .arrayLayers = 1,
+                                                   .samples = vk::SampleCountFlagBits::e1,
+                                                   .tiling = vk::ImageTiling::eOptimal,
+                                                   .usage = usage,
+                                                   .sharingMode = vk::SharingMode::eExclusive,
+                                                   .initialLayout = vk::ImageLayout::eUndefined}) {
   const vk::MemoryRequirements requirements = image_.getMemoryRequirements();
   memory_ = allocate(device, requirements,
                      device.memoryTypeIndex(requirements.memoryTypeBits, MemoryProperty::eDeviceLocal, {}));
   image_.bindMemory(*memory_, 0);
   if (usage & vk::ImageUsageFlagBits::eStorage) {
     view_ = vk::raii::ImageView(
-        device.logical(),
-        vk::ImageViewCreateInfo{.image = *image_,
-                                .viewType = vk::ImageViewType::e2D,
-                                .format = kFrameFormat,
-                                .subresourceRange = {vk::ImageAspectFlagBits::eColor, 0, 1, 0, 1}});
+        device.logical(), vk::ImageViewCreateInfo{.image = *image_,
+                                                  .viewType = vk::ImageViewType::e2D,
+                                                  .format = kFrameFormat,
+                                                  .subresourceRange = {vk::ImageAspectFlagBits::eColor, 0, 1, 0, 1}});
   }
 }
 
@@ -153,9 +149,9 @@ CommandRunner::CommandRunner(const Device& device)
       pool_(device.logical(), vk::CommandPoolCreateInfo{.flags = vk::CommandPoolCreateFlagBits::eResetCommandBuffer,
                                                         .queueFamilyIndex = device.queueFamily()}),
       fence_(device.logical(), vk::FenceCreateInfo{}) {
-  vk::raii::CommandBuffers buffers(device.logical(), vk::CommandBufferAllocateInfo{.commandPool = *pool_,
-                                                                                   .level = vk::CommandBufferLevel::ePrimary,
-                                                                                   .commandBufferCount = 1});
+  vk::raii::CommandBuffers buffers(
+      device.logical(), vk::CommandBufferAllocateInfo{
+                            .commandPool = *pool_, .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1});
   commandBuffer_ = std::move(buffers.front());
 }
 
@@ -173,7 +169,8 @@ void CommandRunner::submitAndWait(std::string_view what) {
   commandBuffer_.end();
   const vk::CommandBuffer cb = *commandBuffer_;
   device_.queue().submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &cb}, *fence_);
-  const vk::Result waited = device_.logical().waitForFences(*fence_, VK_TRUE, static_cast<std::uint64_t>(kFenceTimeout.count()));
+  const vk::Result waited =
+      device_.logical().waitForFences(*fence_, VK_TRUE, static_cast<std::uint64_t>(kFenceTimeout.count()));
   if (waited == vk::Result::eTimeout) {
     throw DeviceError(std::string(what) + ": the Vulkan device did not finish within " +
                       std::to_string(std::chrono::duration_cast<std::chrono::seconds>(kFenceTimeout).count()) +
@@ -193,11 +190,8 @@ std::string describeVulkanFailure(std::string_view what, vk::Result result, std:
     case vk::Result::eErrorOutOfDeviceMemory:
       message += " (out of device memory: try a smaller --width/--height)";
       break;
-    case vk::Result::eErrorOutOfHostMemory:
-      message += " (out of host memory)";
-      break;
-    default:
-      break;
+    case vk::Result::eErrorOutOfHostMemory: message += " (out of host memory)"; break;
+    default: break;
   }
   if (!detail.empty()) message += " [" + std::string(detail) + "]";
   return message;

@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <glm/common.hpp>
 #include <limits>
 #include <stdexcept>
-
-#include <glm/common.hpp>
 
 #include "core/profiler.h"
 
@@ -147,7 +146,9 @@ class Builder {
       left.grow(bins[static_cast<std::size_t>(b)].bounds);
       leftCount += bins[static_cast<std::size_t>(b)].count;
       if (leftCount == 0 || rightCost[static_cast<std::size_t>(b) + 1] == 0.0f) continue;
-      const float cost = 1.0f + (left.halfArea() * static_cast<float>(leftCount) + rightCost[static_cast<std::size_t>(b) + 1]) / parentArea;
+      const float cost =
+          1.0f +
+          (left.halfArea() * static_cast<float>(leftCount) + rightCost[static_cast<std::size_t>(b) + 1]) / parentArea;
       if (cost < best.cost) best = {axis, b, cost};
     }
   }

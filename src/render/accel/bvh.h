@@ -6,11 +6,10 @@
 // time.
 #include <cmath>
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <optional>
 #include <span>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "bvh_layout.h"
 #include "render/accel/accel_structure_info.h"
@@ -23,7 +22,7 @@ struct BvhNode {
   glm::vec3 lo;         // bounds of every sphere below
   std::uint32_t first;  // leaf: first slot in Bvh::order; inner: index of the left child (right = left + 1)
   glm::vec3 hi;
-  std::uint32_t meta;   // leaf: sphere count (> 0); inner: 0 in the low 30 bits, split axis in the top 2
+  std::uint32_t meta;  // leaf: sphere count (> 0); inner: 0 in the low 30 bits, split axis in the top 2
 
   [[nodiscard]] bool leaf() const { return (meta & kCountMask) != 0; }
   [[nodiscard]] std::uint32_t count() const { return meta & kCountMask; }

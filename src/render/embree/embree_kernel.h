@@ -78,8 +78,8 @@ struct FrameData {
 
 // Pixels x0..x1-1 of row y, with a worker's slot and two-pass segments
 // (maxDepth x packet width, depth-major; empty for single-pass).
-using SpanFunction = void (*)(const FrameData& frame, Slot& slot, std::span<kernel::PathSegment<float>> segments,
-                              int y, int x0, int x1);
+using SpanFunction = void (*)(const FrameData& frame, Slot& slot, std::span<kernel::PathSegment<float>> segments, int y,
+                              int x0, int x1);
 
 }  // namespace embree
 

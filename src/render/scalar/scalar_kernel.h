@@ -41,8 +41,8 @@ class ScalarKernel {
   }
 
  private:
-  using SpanFunction = void (*)(const kernel::ShadingInputs<float>&, const CameraFrame&, Extent, int y, int x0,
-                                int x1, std::span<Rgba8> row);
+  using SpanFunction = void (*)(const kernel::ShadingInputs<float>&, const CameraFrame&, Extent, int y, int x0, int x1,
+                                std::span<Rgba8> row);
 
   kernel::ShadingInputs<float> inputs_{};
   AccelStructure accel_;

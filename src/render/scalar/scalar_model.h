@@ -25,7 +25,7 @@ namespace rt::kernel {
 template <typename Real>
 struct ShadingInputs {
   std::span<const Sphere> spheres;
-  const Bvh* bvh;  // the scene's hierarchy for the Accel::bvh variant; null otherwise
+  const Bvh* bvh;      // the scene's hierarchy for the Accel::bvh variant; null otherwise
   Vec3<Real> toLight;  // -directionalLightDirection
   Vec3<Real> lightColor;
   Vec3<Real> ambientColor;
@@ -59,8 +59,8 @@ inline Ray<Real> primaryRay(const CameraFrame& camera, Extent extent, int x, int
 
 // Phong: ambient + diffuse + specular from one directional light (docs/render-model.md section 4).
 template <typename Real>
-inline Vec3<Real> localColor(const ShadingInputs<Real>& in, const RaycastHit<Real>& hit,
-                             const Vec3<Real>& direction, const Vec3<Real>& sphereColor) {
+inline Vec3<Real> localColor(const ShadingInputs<Real>& in, const RaycastHit<Real>& hit, const Vec3<Real>& direction,
+                             const Vec3<Real>& sphereColor) {
   const Vec3<Real>& n = hit.normal;
   const Vec3<Real>& l = in.toLight;
   const Vec3<Real> ambient = in.ambientColor * sphereColor;

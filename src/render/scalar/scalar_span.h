@@ -13,8 +13,8 @@ namespace rt {
 
 // Pixels x0..x1-1 of row y (the schedulers hand out such spans).
 template <typename Real, Algorithm kAlgorithm, bool kBounceExit, Accel kAccel>
-void renderScalarSpan(const kernel::ShadingInputs<Real>& in, const CameraFrame& camera, Extent extent, int y,
-                      int x0, int x1, std::span<Rgba8> row) {
+void renderScalarSpan(const kernel::ShadingInputs<Real>& in, const CameraFrame& camera, Extent extent, int y, int x0,
+                      int x1, std::span<Rgba8> row) {
   [[maybe_unused]] std::array<kernel::PathSegment<Real>, kMaxDepthLimit> segments;
   for (int x = x0; x < x1; ++x) {
     const kernel::Ray<Real> ray = kernel::primaryRay<Real>(camera, extent, x, y);

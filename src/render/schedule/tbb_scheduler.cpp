@@ -9,7 +9,8 @@ namespace rt {
 namespace {
 
 int resolveThreads(int requested) {
-  if (requested < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores), got " + std::to_string(requested));
+  if (requested < 0)
+    throw std::invalid_argument("threads must be >= 0 (0: all cores), got " + std::to_string(requested));
   return requested == ParallelSettings::kAllCores ? oneapi::tbb::info::default_concurrency() : requested;
 }
 
@@ -32,9 +33,7 @@ TbbScheduler::TbbScheduler(int threads, int grain, Partition partition)
   // Start the arena and oneTBB's workers now, not lazily inside the first
   // frame's render(): that first use allocates, and it would be timed.
   arena_.initialize();
-  arena_.execute([this] {
-    oneapi::tbb::parallel_for(0, threads_, [](int) {});
-  });
+  arena_.execute([this] { oneapi::tbb::parallel_for(0, threads_, [](int) {}); });
 }
 
 }  // namespace rt

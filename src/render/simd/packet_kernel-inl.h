@@ -159,8 +159,8 @@ HWY_INLINE RayX<D> ReflectedRay(D d, const RayX<D>& ray, const RaycastHitX<D>& h
 // colour, its colour filters the throughput, and the ray reflects. The
 // other lanes' throughput and ray become junk; they are not active again.
 template <class D>
-HWY_INLINE void ShadeBounce(D d, const ShadingParams& shading, const RaycastHitX<D>& hit, RayX<D>& ray,
-                            Vec3x<D>& color, Vec3x<D>& throughput) {
+HWY_INLINE void ShadeBounce(D d, const ShadingParams& shading, const RaycastHitX<D>& hit, RayX<D>& ray, Vec3x<D>& color,
+                            Vec3x<D>& throughput) {
   color = Select(hit.hit, color + throughput * LocalColor(d, shading, hit, ray.direction), color);
   throughput = throughput * (hn::Set(d, shading.reflectivity) * hit.sphereColor);
   ray = ReflectedRay(d, ray, hit);
@@ -198,9 +198,24 @@ struct PathSegmentX {
 // The forward pass' storage: per segment one ray, one hit and one sphere
 // colour packet, stored vector by vector into the thread's scratch.
 enum SegmentSlot : std::size_t {
-  kOriginX, kOriginY, kOriginZ, kDirectionX, kDirectionY, kDirectionZ,
-  kPositionX, kPositionY, kPositionZ, kNormalX, kNormalY, kNormalZ,
-  kDistance, kColorR, kColorG, kColorB, kHitMask, kSegmentSlots
+  kOriginX,
+  kOriginY,
+  kOriginZ,
+  kDirectionX,
+  kDirectionY,
+  kDirectionZ,
+  kPositionX,
+  kPositionY,
+  kPositionZ,
+  kNormalX,
+  kNormalY,
+  kNormalZ,
+  kDistance,
+  kColorR,
+  kColorG,
+  kColorB,
+  kHitMask,
+  kSegmentSlots
 };
 static_assert(kSegmentSlots == kSegmentVectors, "scratch sizing in packet_kernels.h must match");
 
@@ -291,9 +306,9 @@ HWY_NOINLINE RayX<D> PrimaryRay(D d, const FrameParams& f, int x, float v) {
   const float w = static_cast<float>(f.extent.width);
   const float h = static_cast<float>(f.extent.height);
   const VecF<D> px = hn::Iota(d, static_cast<float>(x));
-  const VecF<D> u = ((hn::Set(d, 2.0f) * (px + hn::Set(d, 0.5f)) / hn::Set(d, w) - hn::Set(d, 1.0f)) *
-                     hn::Set(d, f.tanHalfFov)) *
-                    hn::Set(d, w / h);
+  const VecF<D> u =
+      ((hn::Set(d, 2.0f) * (px + hn::Set(d, 0.5f)) / hn::Set(d, w) - hn::Set(d, 1.0f)) * hn::Set(d, f.tanHalfFov)) *
+      hn::Set(d, w / h);
   const Vec3x<D> dir = (Broadcast(d, f.forward) + u * Broadcast(d, f.right)) + hn::Set(d, v) * Broadcast(d, f.up);
   return {Broadcast(d, f.cameraPosition), Normalize(d, dir)};
 }

@@ -12,12 +12,12 @@
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/simd/packet_kernels.cc"
-#include <hwy/foreach_target.h>  // must come before highway.h
+#include "render/simd/packet_kernels.h"
 
+#include <hwy/foreach_target.h>  // must come before highway.h
 #include <hwy/highway.h>
 
 #include "render/simd/packet_kernel-inl.h"
-#include "render/simd/packet_kernels.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace rt::simd::HWY_NAMESPACE {

@@ -56,7 +56,8 @@ void SimdKernel::prepareSpheres(const Scene& scene) {
     array(6)[i] = s.color.y;
     array(7)[i] = s.color.z;
   }
-  params_.spheres = {array(0), array(1), array(2), array(3), array(4), array(5), array(6), array(7), static_cast<int>(n)};
+  params_.spheres = {array(0), array(1), array(2), array(3),           array(4),
+                     array(5), array(6), array(7), static_cast<int>(n)};
 }
 
 void SimdKernel::prepareScratch(int maxDepth, int slots) {

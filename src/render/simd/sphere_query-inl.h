@@ -16,7 +16,7 @@
 // kSphereExit / kDiscriminantExit are the thesis' two SIMD early exits.
 template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
 HWY_INLINE void IntersectSphere(D d, const SphereArrays& s, int i, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
-                           VecF<D>& bestIndex) {
+                                VecF<D>& bestIndex) {
   const VecF<D> eps = hn::Set(d, kEpsilon);
   const Vec3x<D>& o = ray.origin;
   const Vec3x<D>& dir = ray.direction;
@@ -119,8 +119,8 @@ HWY_INLINE Vec3x<D> InverseDirection(D d, const Vec3x<D>& dir) {
 // traversalPad() (render/accel/bvh.h) per lane.
 template <class D>
 HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
-  const VecF<D> scale = hn::Max(hn::Abs(origin.x), hn::Max(hn::Abs(origin.y), hn::Abs(origin.z))) +
-                        hn::Set(d, bvh.maxCoordinate);
+  const VecF<D> scale =
+      hn::Max(hn::Abs(origin.x), hn::Max(hn::Abs(origin.y), hn::Abs(origin.z))) + hn::Set(d, bvh.maxCoordinate);
   return hn::Set(d, float(RT_BVH_PAD_SCALE)) * scale +
          hn::Set(d, float(RT_BVH_PAD_TANGENT)) * hn::Sqrt(hn::Set(d, bvh.maxRadius) * scale) +
          hn::Set(d, float(RT_BVH_PAD_RADIUS) * bvh.maxRadius + float(RT_BVH_PAD_MIN));

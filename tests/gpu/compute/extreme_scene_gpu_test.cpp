@@ -6,8 +6,8 @@
 
 #include "gpu/compute/gpu_renderer.h"
 #include "gpu/gpu_test_support.h"
-#include "render/extreme_scenes.h"
 #include "render/cpu_renderers.h"
+#include "render/extreme_scenes.h"
 
 namespace rt::test {
 namespace {
@@ -30,7 +30,8 @@ TEST_F(GpuExtremes, ExtremeScenesAgreeWithTheSequentialRenderer) {
         SequentialRenderer sequential;
         const Image expected = renderFrame(sequential, scene, kExtremeExtent, options, frame);
         const ImageAgreement agreement = compareImages(actual, expected);
-        EXPECT_TRUE(agreement.agrees()) << name << " " << nameOf(stage) << " frame " << frame << ": " << describe(agreement);
+        EXPECT_TRUE(agreement.agrees()) << name << " " << nameOf(stage) << " frame " << frame << ": "
+                                        << describe(agreement);
       }
     }
   }

@@ -2,14 +2,15 @@
 // section 8) on every scene, algorithm and bounce setting, at small sizes
 // and at an odd one that leaves partial workgroups; with --accel bvh it
 // gives the bytes of --accel none; all under validation.
+#include "gpu/compute/gpu_renderer.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 
-#include "gpu/gpu_test_support.h"
 #include "app/frame_loop.h"
-#include "gpu/compute/gpu_renderer.h"
+#include "gpu/gpu_test_support.h"
 #include "render/accel/accel_scenes.h"
 #include "render/cpu_renderers.h"
 #include "render/scalar/double_reference.h"
@@ -91,7 +92,8 @@ TEST_F(GpuAgreement, CameraInsideASphereAgreesWithDoublePrecision) {
 // --accel bvh against --accel none on the GPU ================================
 
 // Frames 0 (the scene file's camera) and 25 (orbited) after one prepare.
-std::vector<Image> renderBothFrames(Renderer& renderer, const Scene& scene, Extent extent, const RenderOptions& options) {
+std::vector<Image> renderBothFrames(Renderer& renderer, const Scene& scene, Extent extent,
+                                    const RenderOptions& options) {
   renderer.prepare(scene, extent, options);
   std::vector<Image> frames;
   for (const long long frame : {0LL, kFrame}) {
@@ -128,7 +130,8 @@ class GpuBvh : public ValidatedGpuTest, public ::testing::WithParamInterface<con
 TEST_P(GpuBvh, ImagesAreByteIdenticalToBruteForce) {
   const Scene scene = loadNamedScene(GetParam());
   for (const Stage stage : kBothAlgorithms) {
-    for (const Extent extent : {Extent{96, 64}, Extent{101, 37}}) expectBvhMatchesBruteForce(scene, stage, extent, GetParam());
+    for (const Extent extent : {Extent{96, 64}, Extent{101, 37}})
+      expectBvhMatchesBruteForce(scene, stage, extent, GetParam());
   }
 }
 

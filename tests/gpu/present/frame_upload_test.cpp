@@ -1,13 +1,14 @@
 // The CPU renderers' Present phase on a Vulkan device: the frame upload
 // through a staging buffer into the present image (gpu::FrameUpload, the
 // FrameSink the app hands them), under validation.
+#include "gpu/present/frame_upload.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <memory>
 
 #include "gpu/gpu_test_support.h"
-#include "gpu/present/frame_upload.h"
 #include "render/cpu_renderers.h"
 #include "test_support.h"
 

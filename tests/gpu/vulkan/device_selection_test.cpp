@@ -4,9 +4,9 @@
 
 #include <vector>
 
+#include "gpu/compute/raytrace_pipeline.h"
 #include "gpu/vulkan/device_info.h"
 #include "gpu/vulkan/timestamps.h"
-#include "gpu/compute/raytrace_pipeline.h"
 
 namespace rt::gpu {
 namespace {

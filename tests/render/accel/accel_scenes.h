@@ -63,10 +63,14 @@ inline std::vector<NamedScene> adversarialScenes() {
   std::vector<NamedScene> scenes;
   const glm::vec3 red{0.9f, 0.2f, 0.2f}, blue{0.2f, 0.4f, 0.9f}, grey{0.8f};
   // Exact ties: the lower index must win, as in brute force.
-  scenes.push_back({"coincident", withSpheres({{{0, 0, 0}, 1, red}, {{0, 0, 0}, 1, blue}, {{0, 0, 0}, 1, grey},
-                                               {{1.5f, 0, 0}, 0.5f, blue}, {{1.5f, 0, 0}, 0.5f, red}})});
-  scenes.push_back({"nested", withSpheres({{{0, 0, 0}, 2, red}, {{0, 0, 0}, 1.5f, blue}, {{0.2f, 0, 0}, 1, grey},
-                                           {{0, 0, 0}, 0.5f, red}})});
+  scenes.push_back({"coincident", withSpheres({{{0, 0, 0}, 1, red},
+                                               {{0, 0, 0}, 1, blue},
+                                               {{0, 0, 0}, 1, grey},
+                                               {{1.5f, 0, 0}, 0.5f, blue},
+                                               {{1.5f, 0, 0}, 0.5f, red}})});
+  scenes.push_back(
+      {"nested",
+       withSpheres({{{0, 0, 0}, 2, red}, {{0, 0, 0}, 1.5f, blue}, {{0.2f, 0, 0}, 1, grey}, {{0, 0, 0}, 0.5f, red}})});
   std::vector<Sphere> touching;
   for (int i = 0; i < 12; ++i) touching.push_back({{-5.5f + static_cast<float>(i), 0, 0}, 0.5f, i % 2 ? red : blue});
   scenes.push_back({"touching", withSpheres(touching)});

@@ -52,7 +52,8 @@ TEST(Bvh, IsWellFormedOnEveryTestScene) {
     const Scene scene = test::loadNamedScene(name);
     expectWellFormed(buildBvh(scene.spheres), scene.spheres, name);
   }
-  for (const auto& [name, scene] : test::adversarialScenes()) expectWellFormed(buildBvh(scene.spheres), scene.spheres, name);
+  for (const auto& [name, scene] : test::adversarialScenes())
+    expectWellFormed(buildBvh(scene.spheres), scene.spheres, name);
 }
 
 TEST(Bvh, SplitsLargeScenesAndKeepsLeavesSmall) {
@@ -61,7 +62,8 @@ TEST(Bvh, SplitsLargeScenesAndKeepsLeavesSmall) {
   EXPECT_GT(bvh.nodes.size(), 1000u / kBvhMaxLeafSize);
   EXPECT_LE(bvh.depth, 30);
   const auto leaves = std::ranges::count_if(bvh.nodes, [](const BvhNode& n) { return n.leaf(); });
-  EXPECT_EQ(static_cast<std::size_t>(leaves) * 2 - 1, bvh.nodes.size()) << "a binary tree: every inner node has two children";
+  EXPECT_EQ(static_cast<std::size_t>(leaves) * 2 - 1, bvh.nodes.size())
+      << "a binary tree: every inner node has two children";
 }
 
 TEST(Bvh, CoincidentSpheresShareOneLeaf) {

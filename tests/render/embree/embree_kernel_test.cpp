@@ -31,8 +31,8 @@ std::unique_ptr<Renderer> makeEmbree(const ParallelSettings& settings = {}) {
   }
 }
 
-#define MAKE_EMBREE_OR_SKIP(var, settings)                            \
-  const std::unique_ptr<Renderer> var = makeEmbree(settings);         \
+#define MAKE_EMBREE_OR_SKIP(var, settings)                    \
+  const std::unique_ptr<Renderer> var = makeEmbree(settings); \
   if (!(var)) GTEST_SKIP() << "built without RT_EMBREE (no Embree)"
 
 ParallelSettings withLanes(int lanes) {
@@ -126,8 +126,8 @@ TEST(EmbreeRenderer, BounceEarlyExitDoesNotChangeThePicture) {
   for (const char* name : test::kSceneNames) {
     const Scene scene = test::loadNamedScene(name);
     for (const Algorithm algorithm : {Algorithm::single_pass, Algorithm::two_pass}) {
-      const Image with =
-          test::renderFrame(*renderer, scene, {101, 37}, {algorithm, optionsForStage(Stage::single_pass).earlyExits}, 30);
+      const Image with = test::renderFrame(*renderer, scene, {101, 37},
+                                           {algorithm, optionsForStage(Stage::single_pass).earlyExits}, 30);
       const Image without = test::renderFrame(*renderer, scene, {101, 37}, {algorithm, EarlyExitSet{}}, 30);
       EXPECT_TRUE(std::ranges::equal(with.pixels(), without.pixels())) << name << " " << nameOf(algorithm);
     }
@@ -142,8 +142,8 @@ TEST(EmbreeRenderer, PrepareReplacesTheScene) {
   const Scene many = test::loadNamedScene("random100");
   const Scene few = test::loadNamedScene("default");
   (void)test::renderFrame(*renderer, many, {96, 64}, o, 0);
-  const ImageAgreement a =
-      compareImages(test::renderFrame(*renderer, few, {96, 64}, o, 0), test::renderFrame(sequential, few, {96, 64}, o, 0));
+  const ImageAgreement a = compareImages(test::renderFrame(*renderer, few, {96, 64}, o, 0),
+                                         test::renderFrame(sequential, few, {96, 64}, o, 0));
   EXPECT_TRUE(a.agrees()) << test::describe(a);
 }
 

@@ -1,8 +1,8 @@
+#include "render/scalar/sphere_query.h"
+
 #include <gtest/gtest.h>
 
 #include <vector>
-
-#include "render/scalar/sphere_query.h"
 
 namespace rt::kernel {
 namespace {
@@ -56,7 +56,8 @@ TEST(Intersection, HitCloserThanEpsilonIsSkippedForTheFarSide) {
 }
 
 TEST(Intersection, NearestOfSeveralWins) {
-  const RaycastHit<float> hit = nearestAlongZ({sphereAt({0, 0, 10}, 1), sphereAt({0, 0, 4}, 1), sphereAt({0, 0, 7}, 1)});
+  const RaycastHit<float> hit =
+      nearestAlongZ({sphereAt({0, 0, 10}, 1), sphereAt({0, 0, 4}, 1), sphereAt({0, 0, 7}, 1)});
   EXPECT_EQ(hit.sphere, 1);
   EXPECT_FLOAT_EQ(hit.distance, 3.0f);
 }

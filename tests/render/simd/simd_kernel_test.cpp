@@ -1,15 +1,16 @@
 // The SIMD and threaded renderers against the sequential reference (docs/render-model.md
 // section 8): every mode x algorithm x early-exit set x lanes, on every
 // scene at an even and an odd size, on every Highway target this CPU runs.
+#include "render/simd/simd_kernel.h"
+
 #include <gtest/gtest.h>
 
 #include <map>
 #include <tuple>
 #include <type_traits>
 
-#include "render/render_test_support.h"
 #include "render/cpu_renderers.h"
-#include "render/simd/simd_kernel.h"
+#include "render/render_test_support.h"
 #include "test_support.h"
 
 namespace rt {
@@ -37,8 +38,8 @@ class References {
   const Image& get(const std::string& sceneName, const Scene& scene, Extent extent, long long frame,
                    RenderOptions options) {
     options.earlyExits = options.earlyExits.has(EarlyExit::bounce) ? only(EarlyExit::bounce) : EarlyExitSet();
-    const auto key = std::make_tuple(sceneName, extent.width, extent.height, frame, options.algorithm,
-                                     options.earlyExits.mask());
+    const auto key =
+        std::make_tuple(sceneName, extent.width, extent.height, frame, options.algorithm, options.earlyExits.mask());
     auto it = images_.find(key);
     if (it == images_.end()) {
       SequentialRenderer sequential;
@@ -70,9 +71,9 @@ void expectAgreementEverywhere(Renderer& renderer, std::span<const EarlyExitSet>
             const Image& want = references().get(name, scene, extent, frame, options);
             const Image got = test::renderFrame(renderer, scene, extent, options, frame);
             const ImageAgreement a = compareImages(got, want);
-            EXPECT_TRUE(a.agrees()) << label << " " << name << " " << extent.width << "x" << extent.height
-                                    << " frame " << frame << " " << nameOf(algorithm) << " early_exit="
-                                    << exits.toString() << ": " << test::describe(a);
+            EXPECT_TRUE(a.agrees()) << label << " " << name << " " << extent.width << "x" << extent.height << " frame "
+                                    << frame << " " << nameOf(algorithm) << " early_exit=" << exits.toString() << ": "
+                                    << test::describe(a);
           }
         }
       }
@@ -138,7 +139,6 @@ TEST(Lanes, FollowTheTargetOnEveryTarget) {
   // The override is lifted again: dispatch is back to the best target.
   EXPECT_EQ(simd::dispatchedKernels().target, simd::availableTargets().front());
 }
-
 
 TEST(Lanes, NativeIsTheBestTargetsWidth) {
   const auto targets = simd::availableTargets();
