@@ -19,6 +19,7 @@ Pure functions over arrays and the tidy frame; no I/O.
 
 from __future__ import annotations
 
+import argparse
 import math
 
 import numpy as np
@@ -28,6 +29,26 @@ from rtbench import names, stats, tables
 
 # 60 and 30 frames per second.
 DEFAULT_BUDGETS_MS = (16.67, 33.33)
+
+
+def positive_ms(text: str) -> float:
+    """argparse type of a frame budget: a positive, finite number of milliseconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a positive number of milliseconds")
+    return value
+
+
+def add_budgets_option(parser: argparse.ArgumentParser, help_text: str) -> None:
+    """--budget-ms, as the report and the comparison both take it."""
+    parser.add_argument(
+        "--budget-ms", type=positive_ms, nargs="+", default=list(DEFAULT_BUDGETS_MS), metavar="MS", help=help_text
+    )
+
+
 # The derived column: the whole frame, every timed host phase added up.
 FRAME_MS = "frame_ms"
 

@@ -35,7 +35,6 @@ message names the file).
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from pathlib import Path
 
@@ -54,16 +53,6 @@ def fraction(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a fraction (0.05) or a percentage (5%)") from None
     if not 0 <= value < 1:
         raise argparse.ArgumentTypeError(f"{text!r} must lie in [0, 1) (or [0%, 100%))")
-    return value
-
-
-def positive_ms(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a positive number of milliseconds")
     return value
 
 
@@ -96,14 +85,7 @@ def parse_args(argv: list[str] | None, prog: str | None) -> tuple[argparse.Names
         metavar="FRACTION",
         help="exit 1 if a configuration is significantly slower by more than this (e.g. 10%%)",
     )
-    p.add_argument(
-        "--budget-ms",
-        type=positive_ms,
-        nargs="+",
-        default=list(budget.DEFAULT_BUDGETS_MS),
-        metavar="MS",
-        help="frame budgets (default: 16.67 33.33)",
-    )
+    budget.add_budgets_option(p, "frame budgets (default: 16.67 33.33)")
     p.add_argument(
         "--all-cores",
         action="store_true",

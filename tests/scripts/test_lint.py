@@ -28,6 +28,11 @@ def lint(repo_root: Path, *files: Path) -> subprocess.CompletedProcess:
     return subprocess.run([str(repo_root / "scripts/lint"), *map(str, files)], capture_output=True, text=True)
 
 
+def lint_text(repo_root: Path, path: Path, text: str) -> subprocess.CompletedProcess:
+    path.write_text(text)
+    return lint(repo_root, path)
+
+
 @pytest.fixture
 def cpp(repo_root):
     if not has_clang_format_19():
@@ -51,9 +56,7 @@ def test_cpp_that_the_rules_would_change_fails_naming_the_file(cpp, tmp_path):
 
 
 def test_cpp_as_the_rules_write_it_passes(cpp, tmp_path):
-    source = tmp_path / "formatted.cpp"
-    source.write_text("int twice(int x) { return 2 * x; }\n")
-    done = lint(cpp, source)
+    done = lint_text(cpp, tmp_path / "formatted.cpp", "int twice(int x) { return 2 * x; }\n")
     assert done.returncode == 0, done.stderr
 
 
@@ -85,9 +88,7 @@ def test_python_that_breaks_a_lint_rule_fails_naming_the_rule(python, tmp_path):
 
 
 def test_clean_python_passes(python, tmp_path):
-    source = tmp_path / "clean.py"
-    source.write_text('"""A module the rules accept."""\n\nx = [1, 2, 3]\n')
-    done = lint(python, source)
+    done = lint_text(python, tmp_path / "clean.py", '"""A module the rules accept."""\n\nx = [1, 2, 3]\n')
     assert done.returncode == 0, done.stderr
 
 

@@ -16,23 +16,18 @@ static_assert(sizeof(ShadingParams) == 4 * sizeof(glm::vec3) + 3 * sizeof(float)
 
 FrameConstants makeFrameConstants(const ShadingParams& shading, std::uint32_t sphereCount, const CameraFrame& camera,
                                   Extent extent) {
-  // One line per 16-byte slot of the block.
-  return {.cameraPosition = camera.position,
-          .tanHalfFov = camera.tanHalfFov,
-          .cameraForward = camera.forward,
-          .width = extent.width,
-          .cameraRight = camera.right,
-          .height = extent.height,
-          .cameraUp = camera.up,
-          .sphereCount = sphereCount,
-          .toLight = shading.toLight,
-          .reflectivity = shading.reflectivity,
-          .lightColor = shading.lightColor,
-          .shininess = shading.shininess,
-          .ambientColor = shading.ambientColor,
-          .specularStrength = shading.specularStrength,
-          .background = shading.background,
-          .unused = 0.0f};
+  // One line per 16-byte slot of the block (the formatter would give each
+  // member a line of its own).
+  // clang-format off
+  return {.cameraPosition = camera.position, .tanHalfFov = camera.tanHalfFov,
+          .cameraForward = camera.forward, .width = extent.width,
+          .cameraRight = camera.right, .height = extent.height,
+          .cameraUp = camera.up, .sphereCount = sphereCount,
+          .toLight = shading.toLight, .reflectivity = shading.reflectivity,
+          .lightColor = shading.lightColor, .shininess = shading.shininess,
+          .ambientColor = shading.ambientColor, .specularStrength = shading.specularStrength,
+          .background = shading.background, .unused = 0.0f};
+  // clang-format on
 }
 
 }  // namespace rt::gpu
