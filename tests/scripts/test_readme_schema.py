@@ -28,6 +28,24 @@ def test_readme_names_every_metadata_key(repo_root):
     assert missing == []
 
 
+def metadata_paths(*path: str):
+    """Every key path below `path` that the schema fixes: ("host", "os"), ..."""
+    for field in schema.run_metadata_fields(*path):
+        yield (*path, field)
+        yield from metadata_paths(*path, field)
+
+
+def test_readme_names_every_nested_metadata_key(repo_root):
+    """The keys inside the metadata's objects (the schema's `fields`) are
+    named in the section too, each as a word: a key the schema gains or
+    renames and the README does not fails here."""
+    section = _section((repo_root / "README.md").read_text(encoding="utf-8"), "## Run metadata")
+    paths = [p for key in schema.run_metadata_keys() for p in metadata_paths(key)]
+    assert ("host", "cpu_model") in paths and ("build", "nix", "nixpkgs_rev") in paths, "the walk reaches every depth"
+    missing = [".".join(p) for p in paths if not re.search(rf"\b{re.escape(p[-1])}\b", section)]
+    assert missing == []
+
+
 # --- the renderer table of "## Architecture" ------------------------------------------------------
 RENDERER_TABLE_HEADER = "| thesis class | our renderer (`--flag`) | kernel | scheduler | code |"
 RENDERER_CELL = re.compile(r"`([a-z_]+)` \(`(--[a-z-]+)`\)")
