@@ -43,12 +43,16 @@ def windowed(raytracer):
 @pytest.fixture
 def display():
     """A private Xvfb on a display number it picks itself (-displayfd): no
-    clash with other tests or a desktop, no TCP listener."""
+    clash with other tests or a desktop, no TCP listener. -noreset: an X
+    server resets when its last client leaves, and a client that connects
+    during the reset is refused; the tests' xwininfo polls connect and
+    leave while the raytracer starts, so without it the raytracer's window
+    sometimes failed to open ("Failed to open display")."""
     if shutil.which("Xvfb") is None:
         pytest.fail("Xvfb is missing (Debian: apt-get install xvfb; scripts/setup-debian installs it)")
     read_end, write_end = os.pipe()
     server = subprocess.Popen(
-        ["Xvfb", "-displayfd", str(write_end), "-screen", "0", "640x480x24", "-nolisten", "tcp"],
+        ["Xvfb", "-displayfd", str(write_end), "-screen", "0", "640x480x24", "-nolisten", "tcp", "-noreset"],
         pass_fds=(write_end,),
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
