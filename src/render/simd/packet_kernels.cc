@@ -4,6 +4,10 @@
 // the dispatch. Keep this file and its includes light: it costs one compile
 // per target.
 
+// The plain header first, as in Highway's skeleton: it has no Highway types,
+// so neither the target list nor foreach_target.h concern it.
+#include "render/simd/packet_kernels.h"
+
 // Scalable vectors (SVE, RVV) are sizeless types that cannot be members of
 // the packet structs (Vec3x, RayX); Arm machines with SVE run NEON instead.
 #ifndef HWY_DISABLED_TARGETS
@@ -12,8 +16,6 @@
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/simd/packet_kernels.cc"
-#include "render/simd/packet_kernels.h"
-
 #include <hwy/foreach_target.h>  // must come before highway.h
 #include <hwy/highway.h>
 
