@@ -7,15 +7,22 @@ from __future__ import annotations
 
 import shutil
 import subprocess
+import tomllib
 from pathlib import Path
 
 import pytest
 
 
-def has_clang_format_19() -> bool:
-    for name in ("clang-format-19", "clang-format"):
+def clang_format_major(repo_root: Path) -> str:
+    """N of the clang-format-N that dependencies.toml installs: the version the rules are checked with."""
+    package = tomllib.loads((repo_root / "dependencies.toml").read_text())["clang-format"]["debian13"]
+    return package.rpartition("-")[2]
+
+
+def has_clang_format(major: str) -> bool:
+    for name in (f"clang-format-{major}", "clang-format"):
         path = shutil.which(name)
-        if path and " version 19." in subprocess.run([path, "--version"], capture_output=True, text=True).stdout:
+        if path and f" version {major}." in subprocess.run([path, "--version"], capture_output=True, text=True).stdout:
             return True
     return False
 
@@ -35,8 +42,9 @@ def lint_text(repo_root: Path, path: Path, text: str) -> subprocess.CompletedPro
 
 @pytest.fixture
 def cpp(repo_root):
-    if not has_clang_format_19():
-        pytest.skip("no clang-format 19 (scripts/setup-debian installs it)")
+    major = clang_format_major(repo_root)
+    if not has_clang_format(major):
+        pytest.skip(f"no clang-format {major} (scripts/setup-debian installs it)")
     return repo_root
 
 
