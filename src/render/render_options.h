@@ -17,6 +17,7 @@ using schema::RendererKind;
 using schema::RendererOption;
 using schema::Scheduler;
 using schema::Stage;
+using schema::Traversal;
 
 // A set of early exits (docs/render-model.md section 6) as a bit mask over EarlyExit.
 class EarlyExitSet {
@@ -42,6 +43,16 @@ struct RenderOptions {
   EarlyExitSet earlyExits = EarlyExitSet::all();
   // How a ray finds its nearest sphere; never changes the image.
   Accel accel = Accel::none;
+  // How the SIMD kernel walks the BVH (accel bvh only); never changes the image.
+  Traversal traversal = Traversal::packet;
+  // Traversal hybrid: a packet goes on as single rays where at most this
+  // many of its lanes reach a node; kDefaultHybridThreshold: the kernel's
+  // measured default for its packet width.
+  static constexpr int kDefaultHybridThreshold = 0;
+  int hybridThreshold = kDefaultHybridThreshold;
+  // --counters: the SIMD kernel tallies rays, node visits, sphere tests and
+  // lane occupancy per frame (LaneCounters); off, the kernel compiled without them runs.
+  bool counters = false;
 };
 
 RenderOptions optionsForStage(Stage stage);

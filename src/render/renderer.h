@@ -5,6 +5,7 @@
 
 #include "core/image.h"
 #include "render/accel/accel_structure_info.h"
+#include "render/lane_counters.h"
 #include "render/render_options.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -28,6 +29,11 @@ struct RendererInfo {
   std::optional<Partition> partition;
   // Known after prepare(); empty with --accel none.
   std::optional<AccelStructureInfo> accelStructure{};
+  // Known after prepare(): how the SIMD kernel walks the BVH, and traversal
+  // hybrid's threshold as resolved (the default made a number); empty where
+  // none applies.
+  std::optional<Traversal> traversal{};
+  std::optional<int> hybridThreshold{};
 };
 
 // One of the thesis' interchangeable renderers. The interface is virtual
@@ -56,6 +62,9 @@ class Renderer {
   // Device time of the last render() in milliseconds (GPU timestamps);
   // nullopt where the renderer does not measure one.
   [[nodiscard]] virtual std::optional<double> lastGpuMs() const { return std::nullopt; }
+  // The last render()'s counters, summed over its threads; nullopt without
+  // --counters or where the renderer does not count.
+  [[nodiscard]] virtual std::optional<LaneCounters> lastCounters() const { return std::nullopt; }
 };
 
 }  // namespace rt
