@@ -16,14 +16,14 @@ inline constexpr int kCountedDepths = 64;
 
 struct alignas(64) LaneCounters {
   std::array<std::uint64_t, kCountedDepths> raysPerDepth{};  // rays that looked for a sphere, by bounce depth
-  std::uint64_t nodeVisits = 0;         // vector box tests
-  std::uint64_t nodeLaneSlots = 0;      // lanes those tests occupied
-  std::uint64_t nodeLanesActive = 0;    // ... that did useful work
-  std::uint64_t sphereTests = 0;        // vector sphere tests
+  std::uint64_t nodeVisits = 0;                              // vector box tests
+  std::uint64_t nodeLaneSlots = 0;                           // lanes those tests occupied
+  std::uint64_t nodeLanesActive = 0;                         // ... that did useful work
+  std::uint64_t sphereTests = 0;                             // vector sphere tests
   std::uint64_t sphereLaneSlots = 0;
   std::uint64_t sphereLanesActive = 0;
-  std::uint64_t shadeLaneSlots = 0;     // lanes of the shading steps
-  std::uint64_t shadeLanesActive = 0;   // ... whose ray hit a sphere
+  std::uint64_t shadeLaneSlots = 0;    // lanes of the shading steps
+  std::uint64_t shadeLanesActive = 0;  // ... whose ray hit a sphere
 
   LaneCounters& operator+=(const LaneCounters& other) {
     for (std::size_t i = 0; i < raysPerDepth.size(); ++i) raysPerDepth[i] += other.raysPerDepth[i];
