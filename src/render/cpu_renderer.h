@@ -28,13 +28,26 @@ class CpuRenderer final : public Renderer {
       : kernel_(settings), scheduler_(settings), sink_(std::move(sink)) {}
 
   [[nodiscard]] RendererInfo info() const override {
-    return {kKind,
-            scheduler_.threads(),
-            kernel_.lanes(),
-            kernel_.simdTarget(),
-            scheduler_.grain(),
-            scheduler_.partition(),
-            kernel_.accelStructure()};
+    RendererInfo info{kKind,
+                      scheduler_.threads(),
+                      kernel_.lanes(),
+                      kernel_.simdTarget(),
+                      scheduler_.grain(),
+                      scheduler_.partition(),
+                      kernel_.accelStructure()};
+    if constexpr (requires { kernel_.traversal(); }) {  // the SIMD kernel's walk of the BVH
+      info.traversal = kernel_.traversal();
+      info.hybridThreshold = kernel_.hybridThreshold();
+    }
+    return info;
+  }
+
+  [[nodiscard]] std::optional<LaneCounters> lastCounters() const override {
+    if constexpr (requires { kernel_.counters(); }) {
+      return kernel_.counters();
+    } else {
+      return std::nullopt;
+    }
   }
 
   void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override {

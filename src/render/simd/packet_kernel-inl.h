@@ -21,7 +21,9 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <span>
 
@@ -102,6 +104,61 @@ HWY_INLINE Vec3x<D> Select(MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) 
   return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z)};
 }
 
+// ---- Counters (--counters) ------------------------------------------------
+
+// Lanes of a mask as bits, lane 0 lowest (packets have at most 16 lanes).
+template <class D>
+HWY_INLINE std::uint32_t LaneBits(D d, MaskF<D> m) {
+  static_assert(hn::MaxLanes(D()) <= 32, "lane masks are kept in 32 bits");
+  std::uint8_t bytes[8] = {};
+  hn::StoreMaskBits(d, m, bytes);
+  return std::uint32_t{bytes[0]} | std::uint32_t{bytes[1]} << 8 | std::uint32_t{bytes[2]} << 16 |
+         std::uint32_t{bytes[3]} << 24;
+}
+template <class D>
+HWY_INLINE MaskF<D> MaskOfBits(D d, std::uint32_t bits) {
+  const std::uint8_t bytes[8] = {static_cast<std::uint8_t>(bits), static_cast<std::uint8_t>(bits >> 8),
+                                 static_cast<std::uint8_t>(bits >> 16), static_cast<std::uint8_t>(bits >> 24)};
+  return hn::LoadMaskBits(d, bytes);
+}
+
+// The thread's LaneCounters where the variant counts; where it does not,
+// every call compiles to nothing, so the variant without counters is the
+// kernel as it was before they existed.
+template <bool kOn>
+class Tally {
+ public:
+  explicit Tally(LaneCounters* counters) : counters_(counters) {}
+  template <class D>
+  HWY_INLINE void Rays(D d, int depth, MaskF<D> active) const {
+    if constexpr (kOn) counters_->raysPerDepth[static_cast<std::size_t>(depth)] += hn::CountTrue(d, active);
+  }
+  HWY_INLINE void Nodes(std::size_t visits, std::size_t slots, std::size_t active) const {
+    if constexpr (kOn) {
+      counters_->nodeVisits += visits;
+      counters_->nodeLaneSlots += slots;
+      counters_->nodeLanesActive += active;
+    }
+  }
+  HWY_INLINE void Spheres(std::size_t tests, std::size_t slots, std::size_t active) const {
+    if constexpr (kOn) {
+      counters_->sphereTests += tests;
+      counters_->sphereLaneSlots += slots;
+      counters_->sphereLanesActive += active;
+    }
+  }
+  template <class D>
+  HWY_INLINE void Shading(D d, MaskF<D> hit) const {
+    if constexpr (kOn) {
+      counters_->shadeLaneSlots += hn::Lanes(d);
+      counters_->shadeLanesActive += hn::CountTrue(d, hit);
+    }
+  }
+
+ private:
+  LaneCounters* counters_;
+};
+
 // ---- Intersection (docs/render-model.md section 3) ----------------------
 
 #include "render/simd/sphere_query-inl.h"  // NearestHit()
@@ -169,15 +226,17 @@ HWY_INLINE void ShadeBounce(D d, const ShadingParams& shading, const RaycastHitX
 // Single-pass: colour and throughput accumulate on the way down. A lane
 // that missed leaves `active`; since its ray would miss again, dropping it
 // equals the scalar kernel, which keeps tracing it with zero throughput.
-template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, bool kBvh, class D>
-HWY_INLINE Vec3x<D> TraceSinglePass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active) {
+template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, Search kSearch, bool kCount, class D>
+HWY_INLINE Vec3x<D> TraceSinglePass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active, Tally<kCount> tally) {
   const Vec3x<D> background = Broadcast(d, f.shading.background);
   Vec3x<D> color{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
   Vec3x<D> throughput{hn::Set(d, 1.0f), hn::Set(d, 1.0f), hn::Set(d, 1.0f)};
   for (int depth = 0; depth < f.shading.maxDepth; ++depth) {
-    const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kBvh>(d, f.spheres, ray, active);
+    tally.Rays(d, depth, active);
+    const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kSearch, kCount>(d, f, ray, active, tally);
     const MaskF<D> missed = hn::AndNot(hit.hit, active);
     color = Select(missed, color + throughput * background, color);
+    tally.Shading(d, hit.hit);
     ShadeBounce(d, f.shading, hit, ray, color, throughput);
     active = hit.hit;
     if constexpr (kBounceExit) {
@@ -276,12 +335,14 @@ HWY_INLINE Vec3x<D> FoldSegment(D d, const ShadingParams& shading, const Vec3x<D
 // Two-pass (the thesis' original): the forward pass stores every segment,
 // the backward pass walks them from the last one. A lane's segments after
 // its miss are misses, as in the scalar kernel.
-template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, bool kBvh, class D>
-HWY_INLINE Vec3x<D> TraceTwoPass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active, float* scratch) {
+template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, Search kSearch, bool kCount, class D>
+HWY_INLINE Vec3x<D> TraceTwoPass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active, float* scratch,
+                                 Tally<kCount> tally) {
   const PathSegmentStore<D> store(d, scratch);
   int count = 0;
   while (count < f.shading.maxDepth) {
-    const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kBvh>(d, f.spheres, ray, active);
+    tally.Rays(d, count, active);
+    const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kSearch, kCount>(d, f, ray, active, tally);
     store.put(count++, {ray, hit});
     ray = ReflectedRay(d, ray, hit);
     active = hit.hit;
@@ -290,7 +351,11 @@ HWY_INLINE Vec3x<D> TraceTwoPass(D d, const FrameParams& f, RayX<D> ray, MaskF<D
     }
   }
   Vec3x<D> acc{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
-  for (int i = count - 1; i >= 0; --i) acc = FoldSegment(d, f.shading, acc, store.get(i));
+  for (int i = count - 1; i >= 0; --i) {
+    const PathSegmentX<D> segment = store.get(i);
+    tally.Shading(d, segment.hit.hit);
+    acc = FoldSegment(d, f.shading, acc, segment);
+  }
   return acc;
 }
 
@@ -333,13 +398,14 @@ HWY_NOINLINE void ToRgba8(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n)
 }
 
 template <class D, unsigned kVariant>
-void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> scratch) {
+void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> scratch, LaneCounters* counters) {
   constexpr KernelVariant kV = KernelVariant::fromIndex(kVariant);
   constexpr bool kTwoPass = kV.twoPass;
   constexpr bool kBounce = kV.bounceExit;
   constexpr bool kSphere = kV.sphereExit;
   constexpr bool kDiscriminant = kV.discriminantExit;
-  constexpr bool kBvh = kV.bvh;
+  constexpr Search kSearch = SearchOf(kV);
+  const Tally<kV.counters> tally(counters);
   const D d;
   const int lanes = static_cast<int>(hn::Lanes(d));
   const float h = static_cast<float>(f.extent.height);
@@ -351,9 +417,9 @@ void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> sc
     const RayX<D> ray = PrimaryRay(d, f, x, v);
     Vec3x<D> color;
     if constexpr (kTwoPass) {
-      color = TraceTwoPass<kBounce, kSphere, kDiscriminant, kBvh>(d, f, ray, active, scratch.data());
+      color = TraceTwoPass<kBounce, kSphere, kDiscriminant, kSearch>(d, f, ray, active, scratch.data(), tally);
     } else {
-      color = TraceSinglePass<kBounce, kSphere, kDiscriminant, kBvh>(d, f, ray, active);
+      color = TraceSinglePass<kBounce, kSphere, kDiscriminant, kSearch>(d, f, ray, active, tally);
     }
     ToRgba8(d, color, row + x, n);
   }

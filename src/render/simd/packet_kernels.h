@@ -12,7 +12,9 @@
 
 #include "core/image.h"
 #include "render/accel/bvh.h"
+#include "render/accel/wide_bvh.h"
 #include "render/kernel_variant.h"
+#include "render/lane_counters.h"
 #include "render/shading_params.h"
 
 namespace rt::simd {
@@ -29,7 +31,8 @@ struct SphereArrays {
   const float* colorG = nullptr;
   const float* colorB = nullptr;
   int count = 0;
-  const Bvh* bvh = nullptr;  // --accel bvh; null: brute force
+  const Bvh* bvh = nullptr;       // --accel bvh; null: brute force
+  const WideBvh* wide = nullptr;  // --traversal single or hybrid; null otherwise
 };
 
 // Everything one frame's kernel calls read: the scene's parts set once per
@@ -44,14 +47,20 @@ struct FrameParams {
   float tanHalfFov;
   Extent extent;
   Rgba8* pixels;  // the working buffer, row-major, extent.width pixels per row
+  // --traversal hybrid: a packet goes on as single rays where at most this
+  // many of its lanes reach a node.
+  int hybridThreshold;
 };
 
 // Renders pixels x0..x1-1 of row y; x0 is a multiple of the packet width.
 // `scratch` holds the two-pass forward pass' packets (scratchFloats() floats,
-// 64-byte aligned); the single-pass variants do not touch it.
-using SpanKernel = void (*)(const FrameParams& frame, int y, int x0, int x1, std::span<float> scratch);
+// 64-byte aligned); the single-pass variants do not touch it. `counters`:
+// the calling thread's tally, which the counting variants add to (the
+// others ignore it; it may be null for them).
+using SpanKernel = void (*)(const FrameParams& frame, int y, int x0, int x1, std::span<float> scratch,
+                            LaneCounters* counters);
 
-// Per packet width: the kernel's 32 variants, or none where the target
+// Per packet width: the kernel's variants, or none where the target
 // cannot hold that many float lanes.
 struct LaneKernels {
   int lanes = 0;

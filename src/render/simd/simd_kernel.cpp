@@ -31,12 +31,49 @@ SimdKernel::SimdKernel(const ParallelSettings& settings)
     : target_(simd::dispatchedKernels()), kernels_(selectLanes(target_, settings.lanes)) {}
 
 void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int slots) {
+  if (options.hybridThreshold < 0) throw std::invalid_argument("hybrid threshold must not be negative");
   prepareSpheres(scene);
   accel_.prepare(scene.spheres, options.accel);
   params_.spheres.bvh = accel_.bvh();
+  traversal_.reset();
+  wide_.reset();
+  if (accel_.bvh() != nullptr) {
+    traversal_ = options.traversal;
+    if (options.traversal != Traversal::packet) wide_ = buildWideBvh(*accel_.bvh(), scene.spheres);
+  }
+  params_.spheres.wide = wide_ ? &*wide_ : nullptr;
+  params_.hybridThreshold = options.hybridThreshold == RenderOptions::kDefaultHybridThreshold
+                                ? defaultHybridThreshold(kernels_.lanes)
+                                : options.hybridThreshold;
   prepareScratch(scene.render.maxDepth, slots);
+  counting_ = options.counters;
+  counters_.assign(counting_ ? static_cast<std::size_t>(std::max(slots, 1)) : 0u, LaneCounters{});
   params_.shading = shadingParamsOf(scene);
   kernel_ = kernels_.variants[KernelVariant::of(options).index()];
+}
+
+int SimdKernel::defaultHybridThreshold(int lanes) { return lanes / 2; }
+
+std::optional<AccelStructureInfo> SimdKernel::accelStructure() const {
+  std::optional<AccelStructureInfo> info = accel_.info();
+  if (info && wide_) {  // the tree the rays walk is the wide one, built from the binary one
+    info->buildMs += wide_->buildMs;
+    info->nodes = wide_->nodes.size();
+    info->depth = wide_->depth;
+  }
+  return info;
+}
+
+std::optional<int> SimdKernel::hybridThreshold() const {
+  if (traversal_ != Traversal::hybrid) return std::nullopt;
+  return params_.hybridThreshold;
+}
+
+std::optional<LaneCounters> SimdKernel::counters() const {
+  if (!counting_) return std::nullopt;
+  LaneCounters sum;
+  for (const LaneCounters& c : counters_) sum += c;
+  return sum;
 }
 
 // The spheres as eight contiguous arrays, converted once, not per frame.
@@ -80,6 +117,7 @@ void SimdKernel::beginFrame(const CameraFrame& camera, Image& frame) {
   params_.tanHalfFov = camera.tanHalfFov;
   params_.extent = frame.extent();
   params_.pixels = frame.pixels().data();
+  std::ranges::fill(counters_, LaneCounters{});
 }
 
 }  // namespace rt

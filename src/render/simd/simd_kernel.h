@@ -36,7 +36,13 @@ class SimdKernel {
   [[nodiscard]] std::string simdTarget() const { return simd::targetName(target_.target); }
   // A span starts at a multiple of the packet width.
   [[nodiscard]] int alignment() const { return kernels_.lanes; }
-  [[nodiscard]] std::optional<AccelStructureInfo> accelStructure() const { return accel_.info(); }
+  [[nodiscard]] std::optional<AccelStructureInfo> accelStructure() const;
+  // How the kernel walks the BVH (accel bvh only) and traversal hybrid's
+  // threshold as resolved; empty where none applies.
+  [[nodiscard]] std::optional<Traversal> traversal() const { return traversal_; }
+  [[nodiscard]] std::optional<int> hybridThreshold() const;
+  // --counters: the last frame's tallies summed over the threads.
+  [[nodiscard]] std::optional<LaneCounters> counters() const;
 
   // The spheres as arrays (and their BVH with --accel bvh), the scene's
   // light and shading, the variant the options select, and two-pass
@@ -44,7 +50,12 @@ class SimdKernel {
   void prepare(const Scene& scene, const RenderOptions& options, int slots);
   void beginFrame(const CameraFrame& camera, Image& frame);
   // Pixels x0..x1-1 of row y; `slot` (the worker's index) picks its scratch.
-  void renderSpan(int slot, int y, int x0, int x1) { kernel_(params_, y, x0, x1, scratchOf(slot)); }
+  void renderSpan(int slot, int y, int x0, int x1) {
+    kernel_(params_, y, x0, x1, scratchOf(slot), counting_ ? &counters_[static_cast<std::size_t>(slot)] : nullptr);
+  }
+
+  // Traversal hybrid's threshold without --hybrid-threshold, for `lanes`-wide packets.
+  static int defaultHybridThreshold(int lanes);
 
  private:
   // A cache line: scratch slots are whole lines, so two threads never write
@@ -64,7 +75,11 @@ class SimdKernel {
 
   std::vector<float> sphereData_;  // SoA: 8 arrays of sphereCount floats each
   AccelStructure accel_;
-  std::vector<CacheLine> scratch_;  // one slot per thread for the two-pass forward pass
+  std::optional<WideBvh> wide_;         // --traversal single or hybrid
+  std::optional<Traversal> traversal_;  // with accel bvh
+  bool counting_ = false;
+  std::vector<LaneCounters> counters_;  // --counters: one tally per thread slot
+  std::vector<CacheLine> scratch_;      // one slot per thread for the two-pass forward pass
   std::size_t scratchLinesPerSlot_ = 0;
 };
 static_assert(CpuKernel<SimdKernel>);

@@ -15,20 +15,20 @@
 // them in index order, where `<` alone settles ties the same way).
 // kSphereExit / kDiscriminantExit are the thesis' two SIMD early exits.
 template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
-HWY_INLINE void IntersectSphere(D d, const SphereArrays& s, int i, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
-                                VecF<D>& bestIndex) {
+HWY_INLINE void IntersectSphere(D d, float centerX, float centerY, float centerZ, float radiusSquared, float index,
+                                const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT, VecF<D>& bestIndex) {
   const VecF<D> eps = hn::Set(d, kEpsilon);
   const Vec3x<D>& o = ray.origin;
   const Vec3x<D>& dir = ray.direction;
-  const VecF<D> ocx = o.x - hn::Set(d, s.centerX[i]);
-  const VecF<D> ocy = o.y - hn::Set(d, s.centerY[i]);
-  const VecF<D> ocz = o.z - hn::Set(d, s.centerZ[i]);
+  const VecF<D> ocx = o.x - hn::Set(d, centerX);
+  const VecF<D> ocy = o.y - hn::Set(d, centerY);
+  const VecF<D> ocz = o.z - hn::Set(d, centerZ);
   const VecF<D> b = hn::MulAdd(ocz, dir.z, hn::MulAdd(ocy, dir.y, ocx * dir.x));
   // f = oc - b d: centre to the point of closest approach; disc = r^2 - |f|^2.
   const VecF<D> fx = hn::NegMulAdd(b, dir.x, ocx);
   const VecF<D> fy = hn::NegMulAdd(b, dir.y, ocy);
   const VecF<D> fz = hn::NegMulAdd(b, dir.z, ocz);
-  const VecF<D> disc = hn::Set(d, s.radiusSquared[i]) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
+  const VecF<D> disc = hn::Set(d, radiusSquared) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
   const MaskF<D> real = hn::And(active, disc >= hn::Zero(d));
   if constexpr (kDiscriminantExit) {
     if (hn::AllFalse(d, real)) return;  // before the sqrt and all that follows
@@ -41,12 +41,21 @@ HWY_INLINE void IntersectSphere(D d, const SphereArrays& s, int i, const RayX<D>
   if constexpr (kSphereExit) {
     if (hn::AllFalse(d, hit)) return;  // no lane hits: skip the bookkeeping
   }
-  const VecF<D> index = hn::Set(d, static_cast<float>(i));
+  const VecF<D> lanesIndex = hn::Set(d, index);
   MaskF<D> better = t < bestT;
-  if constexpr (kTieByIndex) better = hn::Or(better, hn::And(t == bestT, index < bestIndex));
+  if constexpr (kTieByIndex) better = hn::Or(better, hn::And(t == bestT, lanesIndex < bestIndex));
   const MaskF<D> closer = hn::And(hit, better);
   bestT = hn::IfThenElse(closer, t, bestT);
-  bestIndex = hn::IfThenElse(closer, index, bestIndex);
+  bestIndex = hn::IfThenElse(closer, lanesIndex, bestIndex);
+}
+
+// Sphere i of the scene's arrays.
+template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
+HWY_INLINE void IntersectSphere(D d, const SphereArrays& s, int i, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
+                                VecF<D>& bestIndex) {
+  IntersectSphere<kSphereExit, kDiscriminantExit, kTieByIndex>(d, s.centerX[i], s.centerY[i], s.centerZ[i],
+                                                               s.radiusSquared[i], static_cast<float>(i), ray, active,
+                                                               bestT, bestIndex);
 }
 
 template <class D>
@@ -76,35 +85,50 @@ HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereArrays& s, const RayX<D>& r
 
 // Brute force: every sphere in index order. Lanes outside `active` (past
 // the row's end, or already missed) report no hit.
-template <bool kSphereExit, bool kDiscriminantExit, class D>
-HWY_INLINE RaycastHitX<D> NearestHitOfAll(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
+template <bool kSphereExit, bool kDiscriminantExit, bool kCount, class D>
+HWY_INLINE RaycastHitX<D> NearestHitOfAll(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active,
+                                          Tally<kCount> tally) {
   VecF<D> bestT = hn::Set(d, std::numeric_limits<float>::infinity());
   VecF<D> bestIndex = hn::Set(d, -1.0f);
   for (int i = 0; i < s.count; ++i) {
     IntersectSphere<kSphereExit, kDiscriminantExit, false>(d, s, i, ray, active, bestT, bestIndex);
   }
+  if constexpr (kCount) {
+    const auto n = static_cast<std::size_t>(s.count);
+    tally.Spheres(n, n * hn::Lanes(d), n * hn::CountTrue(d, active));
+  }
   return HitRecord(d, s, ray, bestT, bestIndex);
 }
 
-// The lanes of `active` that may meet a sphere inside `node`'s box, widened
-// by `pad` (per lane: traversalPad() of its origin), nearer than their best.
+// The lanes of `active` that may meet a sphere inside the box lo..hi,
+// widened by `pad` (per lane: traversalPad() of its origin), nearer than
+// their best; `entry` receives where each lane enters the widened box.
 template <class D>
-HWY_INLINE MaskF<D> BoxReachable(D d, const BvhNode& node, const RayX<D>& ray, const Vec3x<D>& inverse, VecF<D> pad,
-                                 VecF<D> bestT, MaskF<D> active) {
-  const auto slab = [&](float lo, float hi, VecF<D> o, VecF<D> inv, VecF<D>& near, VecF<D>& far) {
-    const VecF<D> t0 = (hn::Set(d, lo) - pad - o) * inv;
-    const VecF<D> t1 = (hn::Set(d, hi) + pad - o) * inv;
+HWY_INLINE MaskF<D> BoxReachable(D d, const float lo[3], const float hi[3], const RayX<D>& ray, const Vec3x<D>& inverse,
+                                 VecF<D> pad, VecF<D> bestT, MaskF<D> active, VecF<D>& entry) {
+  const auto slab = [&](float l, float h, VecF<D> o, VecF<D> inv, VecF<D>& near, VecF<D>& far) {
+    const VecF<D> t0 = (hn::Set(d, l) - pad - o) * inv;
+    const VecF<D> t1 = (hn::Set(d, h) + pad - o) * inv;
     near = hn::Min(t0, t1);
     far = hn::Max(t0, t1);
   };
   VecF<D> nx, fx, ny, fy, nz, fz;
-  slab(node.lo.x, node.hi.x, ray.origin.x, inverse.x, nx, fx);
-  slab(node.lo.y, node.hi.y, ray.origin.y, inverse.y, ny, fy);
-  slab(node.lo.z, node.hi.z, ray.origin.z, inverse.z, nz, fz);
-  const VecF<D> tmin = hn::Max(nx, hn::Max(ny, nz));
-  const VecF<D> tmax = hn::Min(fx, hn::Min(fy, fz));
-  const MaskF<D> crosses = hn::And(tmin <= tmax, tmax >= hn::Zero(d) - pad);
-  return hn::And(active, hn::And(crosses, tmin <= bestT + pad));
+  slab(lo[0], hi[0], ray.origin.x, inverse.x, nx, fx);
+  slab(lo[1], hi[1], ray.origin.y, inverse.y, ny, fy);
+  slab(lo[2], hi[2], ray.origin.z, inverse.z, nz, fz);
+  entry = hn::Max(nx, hn::Max(ny, nz));
+  const VecF<D> exit = hn::Min(fx, hn::Min(fy, fz));
+  const MaskF<D> crosses = hn::And(entry <= exit, exit >= hn::Zero(d) - pad);
+  return hn::And(active, hn::And(crosses, entry <= bestT + pad));
+}
+
+template <class D>
+HWY_INLINE MaskF<D> BoxReachable(D d, const BvhNode& node, const RayX<D>& ray, const Vec3x<D>& inverse, VecF<D> pad,
+                                 VecF<D> bestT, MaskF<D> active) {
+  const float lo[3] = {node.lo.x, node.lo.y, node.lo.z};
+  const float hi[3] = {node.hi.x, node.hi.y, node.hi.z};
+  VecF<D> entry;
+  return BoxReachable(d, lo, hi, ray, inverse, pad, bestT, active, entry);
 }
 
 // 1 / d per lane, a zero component made a tiny one of its sign (no 0 * inf).
@@ -131,8 +155,9 @@ HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
 // of the active lanes (reflected lanes fan out: the first lane alone often
 // picks the wrong side); each lane ends with the same nearest sphere as
 // brute force.
-template <bool kSphereExit, bool kDiscriminantExit, class D>
-HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
+template <bool kSphereExit, bool kDiscriminantExit, bool kCount, class D>
+HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active,
+                                          Tally<kCount> tally) {
   const Bvh& bvh = *s.bvh;
   VecF<D> bestT = hn::Set(d, std::numeric_limits<float>::infinity());
   VecF<D> bestIndex = hn::Set(d, -1.0f);
@@ -145,13 +170,17 @@ HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX
   stack[top++] = 0;
   while (top > 0) {
     const BvhNode& node = bvh.nodes[stack[--top]];
-    if (hn::AllFalse(d, BoxReachable(d, node, ray, inverse, pad, bestT, active))) continue;
+    const MaskF<D> reach = BoxReachable(d, node, ray, inverse, pad, bestT, active);
+    if constexpr (kCount) tally.Nodes(1, hn::Lanes(d), hn::CountTrue(d, reach));
+    if (hn::AllFalse(d, reach)) continue;
     if (!node.leaf()) {
       const bool negative = direction[node.axis()] < 0.0f;
       stack[top++] = node.first + (negative ? 0u : 1u);  // far child
       stack[top++] = node.first + (negative ? 1u : 0u);  // near child, visited next
       continue;
     }
+    if constexpr (kCount)
+      tally.Spheres(node.count(), node.count() * hn::Lanes(d), node.count() * hn::CountTrue(d, reach));
     for (std::uint32_t k = node.first; k < node.first + node.count(); ++k) {
       IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, s, static_cast<int>(bvh.order[k]), ray, active, bestT,
                                                             bestIndex);
@@ -160,15 +189,38 @@ HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX
   return HitRecord(d, s, ray, bestT, bestIndex);
 }
 
-// The nearest hit per lane, lower index on a tie; kBvh is the compiled
-// variant of --accel. Out of line: the sphere loop is the bulk of the code,
-// and this way it is compiled 8 times per packet width, not once for each
-// of the 32 variants (the call costs nothing next to a loop over spheres).
-template <bool kSphereExit, bool kDiscriminantExit, bool kBvh, class D>
-HWY_NOINLINE RaycastHitX<D> NearestHit(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active) {
-  if constexpr (kBvh) {
-    return NearestHitInBvh<kSphereExit, kDiscriminantExit>(d, s, ray, active);
+#include "render/simd/wide_traversal-inl.h"  // NearestHitSingle(), NearestHitHybrid()
+
+// How a variant finds the nearest sphere: brute force, or the BVH walked
+// as --traversal says.
+enum class Search { kAll, kPacket, kSingle, kHybrid };
+
+constexpr Search SearchOf(KernelVariant v) {
+  if (!v.bvh) return Search::kAll;
+  switch (v.traversal) {
+    case Traversal::packet: return Search::kPacket;
+    case Traversal::single: return Search::kSingle;
+    case Traversal::hybrid: return Search::kHybrid;
+  }
+  return Search::kPacket;
+}
+
+// The nearest hit per lane, lower index on a tie; kSearch is the compiled
+// variant of --accel and --traversal. Out of line: the sphere loop is the
+// bulk of the code, and this way it is compiled once per search, exit pair
+// and counting, not once for each variant of the span kernel (the call
+// costs nothing next to a loop over spheres). The single-ray walk does not
+// use the thesis' packet exits: one copy serves every exit pair.
+template <bool kSphereExit, bool kDiscriminantExit, Search kSearch, bool kCount, class D>
+HWY_NOINLINE RaycastHitX<D> NearestHit(D d, const FrameParams& f, const RayX<D>& ray, MaskF<D> active,
+                                       Tally<kCount> tally) {
+  if constexpr (kSearch == Search::kAll) {
+    return NearestHitOfAll<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active, tally);
+  } else if constexpr (kSearch == Search::kPacket) {
+    return NearestHitInBvh<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active, tally);
+  } else if constexpr (kSearch == Search::kSingle) {
+    return NearestHitSingle(d, f.spheres, ray, active, tally);
   } else {
-    return NearestHitOfAll<kSphereExit, kDiscriminantExit>(d, s, ray, active);
+    return NearestHitHybrid<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active, f.hybridThreshold, tally);
   }
 }

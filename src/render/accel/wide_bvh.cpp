@@ -1,0 +1,144 @@
+#include "render/accel/wide_bvh.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <stdexcept>
+
+#include "core/profiler.h"
+
+namespace rt {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// A binary node's spheres are one range of Bvh::order (the build partitions
+// in place), which a leaf of the wide tree can take whole.
+struct Subtree {
+  std::uint32_t first = 0;
+  std::uint32_t count = 0;
+};
+
+float halfArea(const BvhNode& n) {
+  const glm::vec3 e = n.hi - n.lo;
+  return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+class Collapser {
+ public:
+  Collapser(const Bvh& bvh, std::span<const Sphere> spheres) : bvh_(bvh), spheres_(spheres) {
+    subtrees_.resize(bvh.nodes.size());
+    measure(0);
+  }
+
+  WideBvh collapse() && {
+    wide_.nodes.emplace_back();
+    fill(0, {0u}, 0);
+    pad();
+    return std::move(wide_);
+  }
+
+ private:
+  Subtree measure(std::uint32_t node) {
+    const BvhNode& n = bvh_.nodes[node];
+    if (n.leaf()) return subtrees_[node] = {n.first, n.count()};
+    const Subtree left = measure(n.first);
+    const Subtree right = measure(n.first + 1);
+    return subtrees_[node] = {left.first, left.count + right.count};
+  }
+
+  // A binary node becomes a leaf of the wide tree when one vector pass tests all its spheres.
+  [[nodiscard]] bool opens(std::uint32_t node) const {
+    return !bvh_.nodes[node].leaf() && subtrees_[node].count > kWideBvhWidth;
+  }
+
+  // Wide node `wide` takes the binary nodes `slots` and, while it has room,
+  // replaces the one of largest surface (the likeliest to be entered) by its
+  // two children.
+  void fill(std::size_t wide, std::vector<std::uint32_t> slots, int depth) {
+    wide_.depth = std::max(wide_.depth, depth);
+    if (slots.size() == 1 && opens(slots[0])) slots = {bvh_.nodes[slots[0]].first, bvh_.nodes[slots[0]].first + 1};
+    while (slots.size() < kWideBvhWidth) {
+      auto best = slots.end();
+      for (auto it = slots.begin(); it != slots.end(); ++it) {
+        if (opens(*it) && (best == slots.end() || halfArea(bvh_.nodes[*it]) > halfArea(bvh_.nodes[*best]))) best = it;
+      }
+      if (best == slots.end()) break;
+      const std::uint32_t left = bvh_.nodes[*best].first;
+      *best = left;
+      slots.insert(best + 1, left + 1);
+    }
+    WideBvhNode node{};
+    for (auto& plane : node.bounds) plane.fill(kInf);
+    for (int a = 0; a < 3; ++a) node.bounds[WideBvhNode::kHiX + a].fill(-kInf);
+    node.child.fill(0);
+    node.leafCount.fill(0);
+    node.childCount = static_cast<std::uint32_t>(slots.size());
+    std::vector<std::pair<std::size_t, std::uint32_t>> inner;
+    for (std::size_t k = 0; k < slots.size(); ++k) {
+      const BvhNode& b = bvh_.nodes[slots[k]];
+      for (int a = 0; a < 3; ++a) {
+        node.bounds[WideBvhNode::kLoX + a][k] = b.lo[a];
+        node.bounds[WideBvhNode::kHiX + a][k] = b.hi[a];
+      }
+      if (opens(slots[k])) {
+        inner.emplace_back(k, slots[k]);
+      } else {
+        node.child[k] = addLeaf(subtrees_[slots[k]]);
+        node.leafCount[k] = subtrees_[slots[k]].count;
+      }
+    }
+    for (const auto& [k, binary] : inner) {
+      node.child[k] = static_cast<std::uint32_t>(wide_.nodes.size());
+      wide_.nodes.emplace_back();
+      fill(node.child[k], {binary}, depth + 1);
+    }
+    wide_.nodes[wide] = node;
+  }
+
+  std::uint32_t addLeaf(Subtree s) {
+    const auto first = static_cast<std::uint32_t>(wide_.index.size());
+    for (std::uint32_t k = s.first; k < s.first + s.count; ++k) {
+      const std::uint32_t i = bvh_.order[k];
+      const Sphere& sphere = spheres_[i];
+      wide_.centerX.push_back(sphere.position.x);
+      wide_.centerY.push_back(sphere.position.y);
+      wide_.centerZ.push_back(sphere.position.z);
+      wide_.radiusSquared.push_back(sphere.radius * sphere.radius);  // as the kernels' SphereArrays
+      wide_.index.push_back(static_cast<std::int32_t>(i));
+    }
+    return first;
+  }
+
+  // Padding after the last leaf: spheres no ray hits (negative radius squared).
+  void pad() {
+    for (int k = 0; k < kWideBvhWidth; ++k) {
+      wide_.centerX.push_back(0.0f);
+      wide_.centerY.push_back(0.0f);
+      wide_.centerZ.push_back(0.0f);
+      wide_.radiusSquared.push_back(-1.0f);
+      wide_.index.push_back(-1);
+    }
+  }
+
+  const Bvh& bvh_;
+  std::span<const Sphere> spheres_;
+  std::vector<Subtree> subtrees_;
+  WideBvh wide_;
+};
+
+}  // namespace
+
+WideBvh buildWideBvh(const Bvh& bvh, std::span<const Sphere> spheres) {
+  ZoneScopedN("wide BVH build");
+  if (bvh.nodes.empty()) throw std::invalid_argument("a wide BVH needs a binary one to collapse");
+  if (spheres.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
+    throw std::length_error("wide BVH: too many spheres");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  WideBvh wide = Collapser(bvh, spheres).collapse();
+  wide.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return wide;
+}
+
+}  // namespace rt

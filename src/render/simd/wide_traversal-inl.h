@@ -1,0 +1,285 @@
+// Single rays through the wide BVH (--traversal single) and packets that
+// split into single rays once few of their lanes stay together (--traversal
+// hybrid). Reflected rays of one packet fan out after a bounce, so a packet
+// reaches most nodes with few lanes active: masked lanes doing no work.
+// A single ray instead fills the vector with a node's child boxes, or a
+// leaf's spheres. Both give each lane the same nearest sphere as brute
+// force: the sphere test is the packet's lane for lane (IntersectSphere,
+// the same operations in the same order), the boxes are padded as the
+// packet's (traversalPad), and ties go to the lower index.
+//
+// A fragment, not a header: sphere_query-inl.h includes it inside its
+// per-target namespace, once per Highway target.
+
+// The vector of a wide node's children (8 floats; two halves on 4-lane targets).
+using WideTag = hn::CappedTag<float, kWideBvhWidth>;
+
+// One ray as the single walk holds it: broadcast once per ray, and per axis
+// the plane of a node's boxes it meets first (lo where it travels up the
+// axis), so a box costs a subtraction and a multiplication per plane.
+struct SingleRayX {
+  VecF<WideTag> origin[3];
+  VecF<WideTag> direction[3];
+  VecF<WideTag> inverse[3];
+  VecF<WideTag> nearShift[3];  // the origin moved by the pad towards the near plane's side
+  VecF<WideTag> farShift[3];
+  int nearPlane[3];
+  int farPlane[3];
+  float pad;
+};
+
+// Lane `lane` of a packet's ray, inverse direction and pad, as stored by StoreLanes.
+struct PacketLanes {
+  static constexpr std::size_t kMaxLanes = 32;
+  HWY_ALIGN float origin[3][kMaxLanes];
+  HWY_ALIGN float direction[3][kMaxLanes];
+  HWY_ALIGN float inverse[3][kMaxLanes];
+  HWY_ALIGN float pad[kMaxLanes];
+};
+
+template <class D>
+HWY_INLINE void StoreLanes(D d, const RayX<D>& ray, const Vec3x<D>& inverse, VecF<D> pad, PacketLanes& out) {
+  static_assert(hn::MaxLanes(D()) <= PacketLanes::kMaxLanes);
+  const auto put = [&](const Vec3x<D>& v, float(*to)[PacketLanes::kMaxLanes]) {
+    hn::Store(v.x, d, to[0]);
+    hn::Store(v.y, d, to[1]);
+    hn::Store(v.z, d, to[2]);
+  };
+  put(ray.origin, out.origin);
+  put(ray.direction, out.direction);
+  put(inverse, out.inverse);
+  hn::Store(pad, d, out.pad);
+}
+
+HWY_INLINE SingleRayX SingleRayOf(const PacketLanes& lanes, std::size_t lane) {
+  const WideTag dw;
+  SingleRayX r;
+  r.pad = lanes.pad[lane];
+  for (int a = 0; a < 3; ++a) {
+    const float o = lanes.origin[a][lane];
+    const float inv = lanes.inverse[a][lane];
+    const bool up = !(inv < 0.0f);
+    r.origin[a] = hn::Set(dw, o);
+    r.direction[a] = hn::Set(dw, lanes.direction[a][lane]);
+    r.inverse[a] = hn::Set(dw, inv);
+    // (lo - pad - o) inv = (lo - (o + pad)) inv up the axis; down it, hi + pad is met first.
+    r.nearShift[a] = hn::Set(dw, up ? o + r.pad : o - r.pad);
+    r.farShift[a] = hn::Set(dw, up ? o - r.pad : o + r.pad);
+    r.nearPlane[a] = up ? WideBvhNode::kLoX + a : WideBvhNode::kHiX + a;
+    r.farPlane[a] = up ? WideBvhNode::kHiX + a : WideBvhNode::kLoX + a;
+  }
+  return r;
+}
+
+// The slots of `node` whose padded box the ray enters before leaving it and
+// nearer than bestT + pad (the packet's BoxReachable, one ray against the
+// node's boxes); `entry` receives the entry distance per slot.
+HWY_INLINE std::uint32_t WideNodeHits(const WideBvhNode& node, const SingleRayX& r, float bestT, float* entry) {
+  const WideTag dw;
+  const std::size_t n = hn::Lanes(dw);
+  const VecF<WideTag> lowest = hn::Set(dw, -r.pad);
+  const VecF<WideTag> highest = hn::Set(dw, bestT + r.pad);
+  std::uint32_t bits = 0;
+  for (std::size_t c = 0; c < WideBvhNode::kWidth; c += n) {
+    const auto plane = [&](int p, int a, const VecF<WideTag>* shift) {
+      return (hn::Load(dw, node.bounds[static_cast<std::size_t>(p)].data() + c) - shift[a]) * r.inverse[a];
+    };
+    const VecF<WideTag> enter =
+        hn::Max(hn::Max(plane(r.nearPlane[0], 0, r.nearShift), plane(r.nearPlane[1], 1, r.nearShift)),
+                hn::Max(plane(r.nearPlane[2], 2, r.nearShift), lowest));
+    const VecF<WideTag> leave =
+        hn::Min(hn::Min(plane(r.farPlane[0], 0, r.farShift), plane(r.farPlane[1], 1, r.farShift)),
+                hn::Min(plane(r.farPlane[2], 2, r.farShift), highest));
+    hn::Store(enter, dw, entry + c);
+    bits |= LaneBits(dw, enter <= leave) << c;
+  }
+  return bits;
+}
+
+// The leaf's spheres against one ray, a vector of them at a time; the
+// nearest hit, lower index on a tie, becomes the best.
+template <bool kCount>
+HWY_INLINE void LeafNearest(const WideBvh& w, std::uint32_t first, std::uint32_t count, const SingleRayX& r,
+                            float& bestT, std::int32_t& bestIndex, Tally<kCount> tally) {
+  const WideTag dw;
+  const std::size_t n = hn::Lanes(dw);
+  const VecF<WideTag> eps = hn::Set(dw, kEpsilon);
+  for (std::size_t c = 0; c < count; c += n) {
+    const std::size_t at = first + c;
+    if constexpr (kCount) tally.Spheres(1, n, std::min<std::size_t>(n, count - c));
+    // intersectSphere, lane for lane as IntersectSphere computes it with the spheres' values broadcast.
+    const VecF<WideTag> ocx = r.origin[0] - hn::LoadU(dw, w.centerX.data() + at);
+    const VecF<WideTag> ocy = r.origin[1] - hn::LoadU(dw, w.centerY.data() + at);
+    const VecF<WideTag> ocz = r.origin[2] - hn::LoadU(dw, w.centerZ.data() + at);
+    const VecF<WideTag> b = hn::MulAdd(ocz, r.direction[2], hn::MulAdd(ocy, r.direction[1], ocx * r.direction[0]));
+    const VecF<WideTag> fx = hn::NegMulAdd(b, r.direction[0], ocx);
+    const VecF<WideTag> fy = hn::NegMulAdd(b, r.direction[1], ocy);
+    const VecF<WideTag> fz = hn::NegMulAdd(b, r.direction[2], ocz);
+    const VecF<WideTag> disc =
+        hn::LoadU(dw, w.radiusSquared.data() + at) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
+    const MaskF<WideTag> real = hn::And(hn::FirstN(dw, count - c), disc >= hn::Zero(dw));
+    if (hn::AllFalse(dw, real)) continue;
+    const VecF<WideTag> h = hn::Sqrt(disc);
+    const VecF<WideTag> minusB = hn::Zero(dw) - b;
+    const VecF<WideTag> near = minusB - h;
+    const VecF<WideTag> t = hn::IfThenElse(near <= eps, minusB + h, near);
+    std::uint32_t hits = LaneBits(dw, hn::And(real, t > eps));
+    if (hits == 0) continue;
+    HWY_ALIGN float ts[WideBvhNode::kWidth];
+    hn::Store(t, dw, ts);
+    for (; hits != 0; hits &= hits - 1) {
+      const auto j = static_cast<std::size_t>(std::countr_zero(hits));
+      const std::int32_t index = w.index[at + j];
+      if (ts[j] < bestT || (ts[j] == bestT && index < bestIndex)) {
+        bestT = ts[j];
+        bestIndex = index;
+      }
+    }
+  }
+}
+
+// Where a walk goes next: a wide node (leafCount 0) or a leaf, and the
+// distance at which the ray (the nearest of the packet's lanes) enters its box.
+struct WideEntry {
+  std::uint32_t child;
+  std::uint32_t leafCount;
+  float entry;
+};
+
+// At most kWidth - 1 siblings wait per level, one level per node on the path.
+inline constexpr int kWideStackSize = (kWideBvhWidth - 1) * (kBvhMaxDepth + 1) + 1;
+
+// One ray from `start` down: a node's hit children are ordered by entry
+// distance with the nearest visited next (one hit: nothing is pushed), and
+// a waiting child is dropped once the ray's best hit is nearer than its box.
+template <bool kCount>
+HWY_NOINLINE void WalkSingle(const WideBvh& w, WideEntry start, const SingleRayX& r, float& bestT,
+                             std::int32_t& bestIndex, Tally<kCount> tally) {
+  WideEntry stack[kWideStackSize];
+  int top = 0;
+  WideEntry current = start;
+  for (;;) {
+    if (current.leafCount == 0) {
+      const WideBvhNode& node = w.nodes[current.child];
+      HWY_ALIGN float entry[WideBvhNode::kWidth];
+      std::uint32_t hits = WideNodeHits(node, r, bestT, entry);
+      if constexpr (kCount) tally.Nodes(1, WideBvhNode::kWidth, node.childCount);
+      if (hits != 0) {
+        if ((hits & (hits - 1)) == 0) {
+          const auto j = static_cast<std::size_t>(std::countr_zero(hits));
+          current = {node.child[j], node.leafCount[j], entry[j]};
+          continue;
+        }
+        // Onto the stack in order, the farthest deepest; the nearest comes straight off again.
+        WideEntry* const first = stack + top;
+        for (; hits != 0; hits &= hits - 1) {
+          const auto j = static_cast<std::size_t>(std::countr_zero(hits));
+          const WideEntry e{node.child[j], node.leafCount[j], entry[j]};
+          WideEntry* k = stack + top++;
+          for (; k > first && (k - 1)->entry < e.entry; --k) *k = *(k - 1);
+          *k = e;
+        }
+        current = stack[--top];
+        continue;
+      }
+    } else {
+      LeafNearest(w, current.child, current.leafCount, r, bestT, bestIndex, tally);
+    }
+    do {
+      if (top == 0) return;
+      current = stack[--top];
+    } while (current.entry > bestT + r.pad);
+  }
+}
+
+// Each active lane alone through the wide BVH (--traversal single).
+template <bool kCount, class D>
+HWY_INLINE RaycastHitX<D> NearestHitSingle(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active,
+                                           Tally<kCount> tally) {
+  PacketLanes lanes;
+  StoreLanes(d, ray, InverseDirection(d, ray.direction), TraversalPad(d, *s.bvh, ray.origin), lanes);
+  const hn::RebindToSigned<D> di;
+  HWY_ALIGN float bestT[PacketLanes::kMaxLanes];
+  HWY_ALIGN std::int32_t bestIndex[PacketLanes::kMaxLanes];
+  hn::Store(hn::Set(d, std::numeric_limits<float>::infinity()), d, bestT);
+  hn::Store(hn::Set(di, -1), di, bestIndex);
+  for (std::uint32_t bits = LaneBits(d, active); bits != 0; bits &= bits - 1) {
+    const auto lane = static_cast<std::size_t>(std::countr_zero(bits));
+    WalkSingle(*s.wide, WideEntry{0, 0, 0.0f}, SingleRayOf(lanes, lane), bestT[lane], bestIndex[lane], tally);
+  }
+  return HitRecord(d, s, ray, hn::Load(d, bestT), hn::ConvertTo(d, hn::Load(di, bestIndex)));
+}
+
+// Packets through the wide BVH, one box of a node at a time, while more
+// than `threshold` lanes reach it; below, each of those lanes goes on alone
+// from that box (--traversal hybrid).
+template <bool kSphereExit, bool kDiscriminantExit, bool kCount, class D>
+HWY_INLINE RaycastHitX<D> NearestHitHybrid(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active,
+                                           int threshold, Tally<kCount> tally) {
+  const WideBvh& w = *s.wide;
+  VecF<D> bestT = hn::Set(d, std::numeric_limits<float>::infinity());
+  VecF<D> bestIndex = hn::Set(d, -1.0f);
+  const Vec3x<D> inverse = InverseDirection(d, ray.direction);
+  const VecF<D> pad = TraversalPad(d, *s.bvh, ray.origin);
+  PacketLanes lanes;
+  StoreLanes(d, ray, inverse, pad, lanes);
+  struct PacketEntry {
+    WideEntry to;
+    std::uint32_t lanes;  // those that reached its box
+  };
+  PacketEntry stack[WideBvhNode::kWidth * (kBvhMaxDepth + 1) + 1];
+  int top = 0;
+  stack[top++] = {{0, 0, 0.0f}, LaneBits(d, active)};
+  while (top > 0) {
+    const PacketEntry e = stack[--top];
+    if (std::popcount(e.lanes) <= threshold) {
+      HWY_ALIGN float t[PacketLanes::kMaxLanes];
+      HWY_ALIGN float index[PacketLanes::kMaxLanes];
+      hn::Store(bestT, d, t);
+      hn::Store(bestIndex, d, index);
+      for (std::uint32_t bits = e.lanes; bits != 0; bits &= bits - 1) {
+        const auto lane = static_cast<std::size_t>(std::countr_zero(bits));
+        auto laneIndex = static_cast<std::int32_t>(index[lane]);
+        WalkSingle(w, e.to, SingleRayOf(lanes, lane), t[lane], laneIndex, tally);
+        index[lane] = static_cast<float>(laneIndex);
+      }
+      bestT = hn::Load(d, t);
+      bestIndex = hn::Load(d, index);
+      continue;
+    }
+    const MaskF<D> reaching = MaskOfBits(d, e.lanes);
+    if (e.to.leafCount != 0) {
+      const std::uint32_t end = e.to.child + e.to.leafCount;
+      if constexpr (kCount) {
+        tally.Spheres(e.to.leafCount, e.to.leafCount * hn::Lanes(d), e.to.leafCount * std::popcount(e.lanes));
+      }
+      for (std::uint32_t k = e.to.child; k < end; ++k) {
+        IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, w.centerX[k], w.centerY[k], w.centerZ[k],
+                                                              w.radiusSquared[k], static_cast<float>(w.index[k]), ray,
+                                                              reaching, bestT, bestIndex);
+      }
+      continue;
+    }
+    const WideBvhNode& node = w.nodes[e.to.child];
+    PacketEntry near[WideBvhNode::kWidth];
+    int n = 0;
+    for (std::size_t j = 0; j < node.childCount; ++j) {
+      const float lo[3] = {node.bounds[WideBvhNode::kLoX][j], node.bounds[WideBvhNode::kLoY][j],
+                           node.bounds[WideBvhNode::kLoZ][j]};
+      const float hi[3] = {node.bounds[WideBvhNode::kHiX][j], node.bounds[WideBvhNode::kHiY][j],
+                           node.bounds[WideBvhNode::kHiZ][j]};
+      VecF<D> entry;
+      const MaskF<D> reach = BoxReachable(d, lo, hi, ray, inverse, pad, bestT, reaching, entry);
+      if constexpr (kCount) tally.Nodes(1, hn::Lanes(d), hn::CountTrue(d, reach));
+      if (hn::AllFalse(d, reach)) continue;
+      const float nearest = hn::GetLane(
+          hn::MinOfLanes(d, hn::IfThenElse(reach, entry, hn::Set(d, std::numeric_limits<float>::infinity()))));
+      PacketEntry p{{node.child[j], node.leafCount[j], nearest}, LaneBits(d, reach)};
+      int k = n++;
+      for (; k > 0 && near[k - 1].to.entry < p.to.entry; --k) near[k] = near[k - 1];  // farthest first
+      near[k] = p;
+    }
+    for (int k = 0; k < n; ++k) stack[top++] = near[k];
+  }
+  return HitRecord(d, s, ray, bestT, bestIndex);
+}
