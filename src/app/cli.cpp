@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <concepts>
 #include <sstream>
 
 #include "app/build_info.h"
@@ -63,6 +64,10 @@ struct RawOptions {
   std::array<bool, schema::kRendererKindNames.size()> rendererFlags{};
   std::string scene;
   std::string algorithm, earlyExit, stage, accel;
+  std::string traversal;
+  int hybridThreshold = RenderOptions::kDefaultHybridThreshold;
+  CLI::Option* hybridThresholdOption = nullptr;
+  bool counters = false;
   std::string lanes = "native";
   std::string partition;
   std::string csv, meta, present;
@@ -80,17 +85,29 @@ std::vector<std::string> namesOf(const std::array<std::string_view, N>& names) {
   return {names.begin(), names.end()};
 }
 
-// Flags of the renderers whose schema row accepts `option` ("--simd and --tbb-only").
-std::string flagsAccepting(RendererOption option) {
+// Flags of the renderers whose schema row satisfies `chosen` ("--simd and --tbb-only").
+template <std::predicate<const schema::RendererDefinition&> Chosen>
+std::string flagsOf(Chosen chosen) {
   std::vector<std::string> flags;
   for (const auto& d : schema::kRendererDefinitions) {
-    if (d.accepts(option)) flags.emplace_back(d.flag);
+    if (chosen(d)) flags.emplace_back(d.flag);
   }
   std::string text;
   for (std::size_t i = 0; i < flags.size(); ++i) {
     text += (i == 0 ? "" : i + 1 == flags.size() ? " and " : ", ") + flags[i];
   }
   return text;
+}
+
+std::string flagsAccepting(RendererOption option) {
+  return flagsOf([option](const schema::RendererDefinition& d) { return d.accepts(option); });
+}
+
+// The renderers of the SIMD kernel: the only ones with a traversal axis and counters.
+bool hasSimdKernel(RendererKind kind) { return definitionOf(kind).kernel == Kernel::simd; }
+
+std::string simdKernelFlags() {
+  return flagsOf([](const schema::RendererDefinition& d) { return d.kernel == Kernel::simd; });
 }
 
 // The renderer options only mean something to the renderers whose schema
@@ -150,6 +167,35 @@ void addModelOptions(CLI::App& app, RawOptions& raw) {
       ->check(CLI::IsMember(namesOf(schema::kStageNames)))
       ->excludes(algorithm)
       ->excludes(exits);
+}
+
+// A count that must be at least 1; CLI11's PositiveNumber would name a double's range.
+CLI::Validator positiveInteger() {
+  return {[](const std::string& text) {
+            int value = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (ec == std::errc() && end == text.data() + text.size() && value >= 1) return std::string();
+            return "expected a positive integer, got '" + text + "'";
+          },
+          "POSITIVE"};
+}
+
+void addTraversalOptions(CLI::App& app, RawOptions& raw) {
+  app.add_option("--traversal", raw.traversal,
+                 "how the SIMD kernel walks the BVH (" + simdKernelFlags() +
+                     ", with --accel bvh): " + joinNames(schema::kTraversalNames, "|") + " (default " +
+                     std::string(nameOf(RenderOptions{}.traversal)) + ")")
+      ->check(CLI::IsMember(namesOf(schema::kTraversalNames)));
+  raw.hybridThresholdOption =
+      app.add_option("--hybrid-threshold", raw.hybridThreshold,
+                     "with --traversal hybrid: a packet goes on as single rays where at most N of its lanes reach a "
+                     "node (default: the kernel's, for its packet width)")
+          ->check(positiveInteger())
+          ->default_str("the kernel's");
+  app.add_flag("--counters", raw.counters,
+               simdKernelFlags() +
+                   ": count rays per bounce depth, BVH node visits, sphere tests and lane occupancy per frame (CSV "
+                   "columns, metadata lane_counters)");
 }
 
 void addRendererOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
@@ -240,6 +286,40 @@ void applyModelOptions(const RawOptions& raw, RunConfig& config) {
   if (!raw.present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, raw.present);
 }
 
+// The traversal axis and the counters belong to the SIMD kernel alone
+// (schema: traversals, frame_csv's counter columns); a run of another
+// renderer would record a setting it ignored. Runs after applyModelOptions,
+// which resets config.options to the stage's.
+void applyTraversalOptions(const RawOptions& raw, RunConfig& config) {
+  const std::string renderer(nameOf(config.renderer));
+  if (!raw.traversal.empty()) {
+    config.options.traversal = *enumByName<Traversal>(schema::kTraversalNames, raw.traversal);
+  }
+  if (config.options.traversal != Traversal::packet) {
+    if (!hasSimdKernel(config.renderer)) {
+      throw CLI::ValidationError("--traversal", "--traversal " + raw.traversal + " applies to the SIMD renderers (" +
+                                                    simdKernelFlags() + ") with --accel bvh; renderer " + renderer +
+                                                    " has no traversal");
+    }
+    if (config.options.accel != Accel::bvh) {
+      throw CLI::ValidationError("--traversal", "--traversal " + raw.traversal +
+                                                    " walks a BVH: it needs --accel bvh (accel is " +
+                                                    std::string(nameOf(config.options.accel)) + ")");
+    }
+  }
+  if (*raw.hybridThresholdOption) {
+    if (config.options.traversal != Traversal::hybrid) {
+      throw CLI::ValidationError("--hybrid-threshold", "--hybrid-threshold needs --traversal hybrid");
+    }
+    config.options.hybridThreshold = raw.hybridThreshold;
+  }
+  if (raw.counters && !hasSimdKernel(config.renderer)) {
+    throw CLI::ValidationError(
+        "--counters", "only the SIMD renderers (" + simdKernelFlags() + ") count; renderer " + renderer + " does not");
+  }
+  config.options.counters = raw.counters;
+}
+
 void applyWindowOptions(const RawOptions& raw, RunConfig& config) {
   if (raw.window) {
     if (config.present && config.present != PresentMode::window) {
@@ -304,6 +384,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   addRendererChoice(app, raw);
   addFrameOptions(app, config);
   addModelOptions(app, raw);
+  addTraversalOptions(app, raw);
   addRendererOptions(app, raw, config);
   addOutputOptions(app, raw);
   addDeviceOptions(app, raw, config);
@@ -314,6 +395,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     if (raw.version) return CliExit{0, versionText(), ""};
     applyRendererChoice(raw, config);
     applyModelOptions(raw, config);
+    applyTraversalOptions(raw, config);
     applyWindowOptions(raw, config);
     applyOutputs(raw, config);
   } catch (const CLI::CallForHelp&) {

@@ -1,6 +1,9 @@
 #include "app/frame_loop.h"
 
 #include <chrono>
+#include <cstdint>
+#include <initializer_list>
+#include <tuple>
 #include <utility>
 
 #include "core/profiler.h"
@@ -28,13 +31,44 @@ void plotFrame([[maybe_unused]] const FrameRecord& r, [[maybe_unused]] Extent ex
   TracyPlot("Mrays/s", static_cast<double>(extent.pixelCount()) / (r.renderMs * 1e3));
 }
 
+// --counters plots. Tracy tells plots apart by the address of their name,
+// so each name is one constant, used to configure and to plot.
+constexpr const char* kRaysPlot = "rays";
+constexpr const char* kNodeOccupancyPlot = "node lanes active %";
+constexpr const char* kSphereOccupancyPlot = "sphere lanes active %";
+constexpr const char* kShadeOccupancyPlot = "shade lanes active %";
+
+void configureCounterPlots() {
+  for ([[maybe_unused]] const char* name : {kNodeOccupancyPlot, kSphereOccupancyPlot, kShadeOccupancyPlot}) {
+    TracyPlotConfig(name, tracy::PlotFormatType::Percentage, false, true, 0);
+  }
+}
+
+// Lane occupancy, the share of vector lanes that did useful work
+// (render/lane_counters.h); no point where the frame occupied no lanes.
+void plotOccupancy([[maybe_unused]] const char* name, [[maybe_unused]] std::uint64_t active, std::uint64_t slots) {
+  if (slots == 0) return;
+  TracyPlot(name, 100.0 * static_cast<double>(active) / static_cast<double>(slots));
+}
+
+void plotCounters(const FrameCounters& counters) {
+  if (!counters) return;
+  TracyPlot(kRaysPlot, static_cast<std::int64_t>(counters->rays()));
+  plotOccupancy(kNodeOccupancyPlot, counters->nodeLanesActive, counters->nodeLaneSlots);
+  plotOccupancy(kSphereOccupancyPlot, counters->sphereLanesActive, counters->sphereLaneSlots);
+  plotOccupancy(kShadeOccupancyPlot, counters->shadeLanesActive, counters->shadeLaneSlots);
+}
+
 }  // namespace
 
 FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config, LiveView* view) {
   FrameLoopResult result;
   result.savedFrames.assign(config.saveFrames.size(), SavedFrame{Image(config.extent)});
   const bool untilClosed = config.untilClosed() && view != nullptr;
-  FrameRecorder recorder(static_cast<std::size_t>(untilClosed ? kUntilClosedRecordCapacity : config.totalFrames()));
+  const bool counting = config.options.counters;
+  FrameRecorder recorder(static_cast<std::size_t>(untilClosed ? kUntilClosedRecordCapacity : config.totalFrames()),
+                         counting);
+  if (counting) configureCounterPlots();
 
   try {
     for (long long k = 0; untilClosed || k < config.totalFrames(); ++k) {
@@ -63,8 +97,11 @@ FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunCo
                                .presentMs = millisecondsBetween(t2, t3),
                                .gpuMs = renderer.lastGpuMs(),
                                .acquireMs = view ? view->lastAcquireMs() : std::nullopt};
-      recorder.record(record);
+      // Read after the timed phases: the copy is no part of Render.
+      const FrameCounters counters = counting ? renderer.lastCounters() : std::nullopt;
+      recorder.record(record, counters);
       plotFrame(record, config.extent);
+      plotCounters(counters);
       if (view) view->frameDone(record);
       // Only saved frames come back to the host, after the timed phases.
       for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
@@ -77,7 +114,7 @@ FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunCo
   } catch (...) {
     result.failure = std::current_exception();
   }
-  result.records = std::move(recorder).takeRecords();
+  std::tie(result.records, result.counters) = std::move(recorder).take();
   return result;
 }
 

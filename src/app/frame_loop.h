@@ -20,6 +20,7 @@ struct SavedFrame {
 
 struct FrameLoopResult {
   std::vector<FrameRecord> records;     // the frames that completed
+  std::vector<FrameCounters> counters;  // --counters: one per record (renderer.lastCounters()); else empty
   std::vector<SavedFrame> savedFrames;  // one per config.saveFrames entry, same order
   std::exception_ptr failure;           // set when a frame threw; records keep what was done
 };

@@ -31,9 +31,13 @@ constexpr int kExitRuntimeError = 1;
 void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, const rt::Scene& scene,
                   const rt::FrameLoopResult& result, const rt::RunTimes& times,
                   const std::optional<rt::WindowOutcome>& window) {
-  if (config.csvPath) rt::writeFileAtomically(*config.csvPath, rt::formatFrameCsv(identity, result.records));
+  if (config.csvPath) {
+    rt::writeFileAtomically(*config.csvPath, rt::formatFrameCsv(identity, result.records, result.counters));
+  }
   if (const auto meta = rt::metadataPathFor(config)) {
-    rt::writeFileAtomically(*meta, rt::makeRunMetadata(config, identity, scene, times, window).dump(2) + "\n");
+    const auto laneCounters = rt::measuredCounterTotals(result.records, result.counters);
+    rt::writeFileAtomically(*meta,
+                            rt::makeRunMetadata(config, identity, scene, times, window, laneCounters).dump(2) + "\n");
   }
   for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
     if (result.savedFrames[i].filled) rt::writePng(result.savedFrames[i].image, config.saveFrames[i].file);
@@ -53,8 +57,10 @@ std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) 
          " lanes=" + std::to_string(id.renderer.lanes) + " target=" + id.renderer.simdTarget +
          " algorithm=" + std::string(rt::nameOf(id.options.algorithm)) +
          " early_exit=" + id.options.earlyExits.toString() + " accel=" + std::string(rt::nameOf(id.options.accel)) +
-         " frames=" + std::to_string(config.warmupFrames) + "+" + std::to_string(config.measuredFrames) +
-         " present=" + std::string(rt::nameOf(id.present)) + (id.device ? " device=" + id.device->name : "");
+         (id.renderer.traversal ? " traversal=" + std::string(rt::nameOf(*id.renderer.traversal)) : "") +
+         (id.options.counters ? " counters" : "") + " frames=" + std::to_string(config.warmupFrames) + "+" +
+         std::to_string(config.measuredFrames) + " present=" + std::string(rt::nameOf(id.present)) +
+         (id.device ? " device=" + id.device->name : "");
 }
 
 // --list-devices: every device the loader reports, the default choice marked.

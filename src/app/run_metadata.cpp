@@ -3,12 +3,14 @@
 #include <sys/utsname.h>
 
 #include <concepts>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 #include "app/build_info.h"
 #include "core/sha256.h"
@@ -142,6 +144,10 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
       case Key::algorithm: return nameOf(id.options.algorithm);
       case Key::early_exit: return id.options.earlyExits.toString();
       case Key::accel: return nameOf(id.options.accel);
+      // As in the CSV: "" where no traversal applies; the threshold null unless hybrid.
+      case Key::traversal: return r.traversal ? nameOf(*r.traversal) : "";
+      case Key::hybrid_threshold: return r.hybridThreshold ? nlohmann::json(*r.hybridThreshold) : nullptr;
+      case Key::counters: return id.options.counters;
       case Key::width: return id.extent.width;
       case Key::height: return id.extent.height;
       case Key::warmup_frames: return config.warmupFrames;
@@ -165,6 +171,31 @@ nlohmann::json accelStructureJson(const RendererInfo& renderer) {
       case Key::depth: return a.depth;
     }
     unhandledKey("accel_structure");
+  });
+}
+
+nlohmann::json laneCountersJson(const std::optional<LaneCounters>& counters) {
+  if (!counters) return nullptr;
+  const LaneCounters& c = *counters;
+  using Key = schema::MetadataLaneCountersKey;
+  return objectOf<Key>(schema::kMetadataLaneCountersKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::rays: return c.rays();
+      case Key::rays_per_depth: {
+        // Depth 0 (primary rays) first, up to the deepest depth that traced a ray, as the CSV column.
+        const auto depths = static_cast<std::size_t>(c.deepestDepth());
+        return std::vector<std::uint64_t>(c.raysPerDepth.begin(), c.raysPerDepth.begin() + depths);
+      }
+      case Key::node_visits: return c.nodeVisits;
+      case Key::node_lane_slots: return c.nodeLaneSlots;
+      case Key::node_lanes_active: return c.nodeLanesActive;
+      case Key::sphere_tests: return c.sphereTests;
+      case Key::sphere_lane_slots: return c.sphereLaneSlots;
+      case Key::sphere_lanes_active: return c.sphereLanesActive;
+      case Key::shade_lane_slots: return c.shadeLaneSlots;
+      case Key::shade_lanes_active: return c.shadeLanesActive;
+    }
+    unhandledKey("lane_counters");
   });
 }
 
@@ -262,7 +293,8 @@ std::string makeRunId(std::chrono::system_clock::time_point startedAt) {
 }
 
 nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& identity, const Scene& scene,
-                               const RunTimes& times, const std::optional<WindowOutcome>& window) {
+                               const RunTimes& times, const std::optional<WindowOutcome>& window,
+                               const std::optional<LaneCounters>& laneCounters) {
   nlohmann::json meta = nlohmann::json::object();
   for (std::size_t i = 0; i < schema::kRunMetadataKeyNames.size(); ++i) {
     const auto key = static_cast<RunMetadataKey>(i);
@@ -280,6 +312,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::finished_at: value = formatRfc3339(times.finishedAt); break;
       case RunMetadataKey::outputs: value = outputsJson(config); break;
       case RunMetadataKey::accel_structure: value = accelStructureJson(identity.renderer); break;
+      case RunMetadataKey::lane_counters: value = laneCountersJson(laneCounters); break;
       case RunMetadataKey::device: value = deviceJson(identity); break;
       case RunMetadataKey::window: value = windowJson(window); break;
     }

@@ -7,6 +7,7 @@
 #include "app/run_config.h"
 #include "app/run_identity.h"
 #include "gpu/present/window_presentation.h"
+#include "render/lane_counters.h"
 #include "scene/scene.h"
 
 namespace rt {
@@ -29,7 +30,9 @@ std::string makeRunId(std::chrono::system_clock::time_point startedAt);
 std::string formatRfc3339(std::chrono::system_clock::time_point t);
 
 // The JSON sidecar: every key of the schema's run_metadata list.
+// `laneCounters`: the measured frames' --counters totals (measuredCounterTotals).
 nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& identity, const Scene& scene,
-                               const RunTimes& times, const std::optional<WindowOutcome>& window = std::nullopt);
+                               const RunTimes& times, const std::optional<WindowOutcome>& window = std::nullopt,
+                               const std::optional<LaneCounters>& laneCounters = std::nullopt);
 
 }  // namespace rt

@@ -11,6 +11,7 @@
 #define ZoneValue(value)
 #define FrameMark
 #define TracyPlot(name, value)
+#define TracyPlotConfig(name, type, step, fill, color)
 #define TracyMessage(text, size)
 #define TracyIsConnected false
 #endif

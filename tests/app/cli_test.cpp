@@ -65,6 +65,66 @@ TEST(Cli, AccelChoosesTheStructureAndEmbreeKeepsItsOwn) {
   EXPECT_NE(refused.error.find("always uses its own bvh"), std::string::npos) << refused.error;
 }
 
+// The traversal axis and the counters belong to the SIMD kernel
+// (schema: traversals); the default walk is the packet one.
+TEST(Cli, TraversalThresholdAndCountersFillTheRenderOptions) {
+  const RunConfig plain = parseOk({"--simd", "--accel", "bvh"});
+  EXPECT_EQ(plain.options.traversal, Traversal::packet);
+  EXPECT_EQ(plain.options.hybridThreshold, RenderOptions::kDefaultHybridThreshold);
+  EXPECT_FALSE(plain.options.counters);
+  EXPECT_EQ(parseOk({"--simd-only", "--accel", "bvh", "--traversal", "single"}).options.traversal, Traversal::single);
+  const RunConfig hybrid =
+      parseOk({"--simd", "--accel", "bvh", "--traversal", "hybrid", "--hybrid-threshold", "6", "--stage", "original"});
+  EXPECT_EQ(hybrid.options.traversal, Traversal::hybrid);
+  EXPECT_EQ(hybrid.options.hybridThreshold, 6) << "--stage must not reset it";
+  EXPECT_EQ(hybrid.options.algorithm, Algorithm::two_pass);
+  EXPECT_EQ(parseOk({"--simd", "--accel", "bvh", "--traversal", "hybrid"}).options.hybridThreshold,
+            RenderOptions::kDefaultHybridThreshold);
+  EXPECT_TRUE(parseOk({"--simd", "--counters"}).options.counters) << "brute force counts too";
+  EXPECT_TRUE(parseOk({"--simd-only", "--accel", "bvh", "--traversal", "single", "--counters"}).options.counters);
+}
+
+TEST(Cli, TraversalOtherThanPacketNeedsASimdRendererAndABvh) {
+  for (const char* renderer : {"--sequential", "--tbb-only", "--gpu", "--embree"}) {
+    const CliExit refused = test::parseFails({renderer, "--accel", "bvh", "--traversal", "single"});
+    EXPECT_EQ(refused.code, kExitBadInput) << renderer;
+    EXPECT_NE(refused.error.find("--traversal single applies to the SIMD renderers (--simd and --simd-only)"),
+              std::string::npos)
+        << refused.error;
+  }
+  const CliExit bruteForce = test::parseFails({"--simd", "--traversal", "hybrid"});
+  EXPECT_EQ(bruteForce.code, kExitBadInput);
+  EXPECT_NE(bruteForce.error.find("needs --accel bvh"), std::string::npos) << bruteForce.error;
+  EXPECT_EQ(exitCode({"--simd", "--accel", "bvh", "--traversal", "diagonal"}), kExitBadInput);
+}
+
+TEST(Cli, HybridThresholdIsPositiveAndOnlyForHybrid) {
+  for (const char* traversal : {"packet", "single"}) {
+    const CliExit refused =
+        test::parseFails({"--simd", "--accel", "bvh", "--traversal", traversal, "--hybrid-threshold", "4"});
+    EXPECT_EQ(refused.code, kExitBadInput) << traversal;
+    EXPECT_NE(refused.error.find("--hybrid-threshold needs --traversal hybrid"), std::string::npos) << refused.error;
+  }
+  EXPECT_EQ(exitCode({"--simd", "--accel", "bvh", "--hybrid-threshold", "4"}), kExitBadInput) << "packet by default";
+  for (const char* bad : {"0", "-3", "2.5", "4x", "99999999999"}) {
+    const CliExit refused =
+        test::parseFails({"--simd", "--accel", "bvh", "--traversal", "hybrid", "--hybrid-threshold", bad});
+    EXPECT_EQ(refused.code, kExitBadInput) << bad;
+    EXPECT_NE(refused.error.find("--hybrid-threshold: expected a positive integer, got '" + std::string(bad) + "'"),
+              std::string::npos)
+        << refused.error;
+  }
+}
+
+TEST(Cli, CountersNeedASimdRenderer) {
+  for (const char* renderer : {"--sequential", "--tbb-only", "--gpu", "--embree"}) {
+    const CliExit refused = test::parseFails({renderer, "--counters"});
+    EXPECT_EQ(refused.code, kExitBadInput) << renderer;
+    EXPECT_NE(refused.error.find("only the SIMD renderers (--simd and --simd-only) count"), std::string::npos)
+        << refused.error;
+  }
+}
+
 TEST(Cli, SaveFrameAndOutputs) {
   const RunConfig c = parseOk({"--warmup", "2", "--frames", "3", "--save-frame", "4:/tmp/a.png", "--save-frame",
                                "0:/tmp/b.png", "--csv", "/tmp/run.csv"});
@@ -100,6 +160,9 @@ TEST(Cli, HelpAndVersionExitWithZero) {
   auto help = parse({"--help"});
   EXPECT_EQ(std::get<CliExit>(help).code, 0);
   EXPECT_NE(std::get<CliExit>(help).output.find("--early-exit"), std::string::npos);
+  for (const char* option : {"--traversal", "packet|single|hybrid", "--hybrid-threshold", "--counters"}) {
+    EXPECT_NE(std::get<CliExit>(help).output.find(option), std::string::npos) << option;
+  }
   auto version = parse({"--version"});
   EXPECT_EQ(std::get<CliExit>(version).code, 0);
   EXPECT_EQ(std::get<CliExit>(version).output.rfind("raytracer ", 0), 0u);

@@ -4,10 +4,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <optional>
+#include <sstream>
+#include <string>
 #include <thread>
 #include <vector>
 
+#include "app/run_identity.h"
+#include "app/run_metadata.h"
 #include "render/cpu_renderers.h"
 #include "render/render_test_support.h"
 #include "test_support.h"
@@ -80,6 +85,98 @@ TEST(FrameLoop, PhaseTimesCoverTheirOwnWorkAndSumWithinTheLoop) {
     phasesMs += f.updateMs + f.renderMs + f.presentMs;
   }
   EXPECT_LE(phasesMs, loopMs);
+}
+
+// A renderer that reports known counters: frame k's (counted by render()
+// calls) trace 100 + k primary rays, so a frame recorded with another
+// frame's counters shows. It says what the SIMD kernel would: its traversal.
+class CountingRenderer final : public Renderer {
+ public:
+  RendererInfo info() const override {
+    RendererInfo info;
+    info.kind = RendererKind::simd_only;
+    info.traversal = Traversal::hybrid;
+    info.hybridThreshold = 5;
+    return info;
+  }
+  void prepare(const Scene&, Extent, const RenderOptions& options) override { counting_ = options.counters; }
+  void render(const CameraFrame&) override { ++rendered_; }
+  void present() override {}
+  void readPresented(Image&) override {}
+  [[nodiscard]] std::optional<LaneCounters> lastCounters() const override {
+    ++asked_;
+    if (!counting_) return std::nullopt;
+    LaneCounters c;
+    c.raysPerDepth[0] = 100 + static_cast<std::uint64_t>(rendered_ - 1);
+    c.raysPerDepth[1] = 3;
+    c.sphereLaneSlots = 8;
+    c.sphereLanesActive = 2;
+    return c;
+  }
+  [[nodiscard]] int asked() const { return asked_; }
+
+ private:
+  bool counting_ = false;
+  long long rendered_ = 0;
+  mutable int asked_ = 0;
+};
+
+TEST(FrameLoop, RecordsEachFramesCountersWithCounters) {
+  RunConfig config = smallRun();
+  config.options.counters = true;
+  const Scene scene = loadScene(config.scenePath);
+  CountingRenderer renderer;
+  const FrameLoopResult r = prepareAndRun(renderer, scene, config);
+  ASSERT_EQ(r.records.size(), 5u);
+  ASSERT_EQ(r.counters.size(), 5u) << "one per record";
+  for (std::size_t k = 0; k < r.counters.size(); ++k) {
+    ASSERT_TRUE(r.counters[k]) << "frame " << k;
+    EXPECT_EQ(r.counters[k]->raysPerDepth[0], 100 + k) << "frame " << k << " recorded another frame's counters";
+    EXPECT_EQ(r.counters[k]->sphereLanesActive, 2u);
+  }
+  EXPECT_EQ(renderer.asked(), 5);
+}
+
+TEST(FrameLoop, RecordsNoCountersWithoutCounters) {
+  const Scene scene = loadScene(smallRun().scenePath);
+  CountingRenderer renderer;
+  const FrameLoopResult r = prepareAndRun(renderer, scene, smallRun());
+  EXPECT_EQ(r.records.size(), 5u);
+  EXPECT_TRUE(r.counters.empty());
+  EXPECT_EQ(renderer.asked(), 0) << "the loop does not ask a renderer that was not asked to count";
+}
+
+// The counting run's outputs: the CSV rows carry each frame's counters and
+// the renderer's traversal, the metadata the measured frames' totals.
+TEST(FrameLoop, CountersAndTraversalReachTheCsvAndTheMetadata) {
+  RunConfig config = smallRun();
+  config.options.counters = true;
+  const Scene scene = loadScene(config.scenePath);
+  CountingRenderer renderer;
+  const FrameLoopResult r = prepareAndRun(renderer, scene, config);
+  const RunIdentity id = makeRunIdentity("run", scene, renderer, config, {});
+
+  const std::string csv = formatFrameCsv(id, r.records, r.counters);
+  std::vector<std::string> lines;
+  std::stringstream text(csv);
+  for (std::string line; std::getline(text, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_NE(lines[0].find("traversal,hybrid_threshold"), std::string::npos) << lines[0];
+  // rays_per_depth, node_visits ... shade_lanes_active end each row.
+  EXPECT_TRUE(lines[1].ends_with(",103,100/3,0,0,0,0,8,2,0,0")) << lines[1];
+  EXPECT_TRUE(lines[5].ends_with(",107,104/3,0,0,0,0,8,2,0,0")) << lines[5];
+  EXPECT_NE(lines[1].find(",hybrid,5,"), std::string::npos) << lines[1];
+
+  const auto now = std::chrono::system_clock::now();
+  const nlohmann::json meta =
+      makeRunMetadata(config, id, scene, {now, now}, std::nullopt, measuredCounterTotals(r.records, r.counters));
+  const nlohmann::json& totals = meta["lane_counters"];
+  EXPECT_EQ(totals["rays"], 102 + 103 + 104 + 3 * 3) << "frames 2..4, the measured ones";
+  EXPECT_EQ(totals["rays_per_depth"], nlohmann::json::array({102 + 103 + 104, 9}));
+  EXPECT_EQ(totals["sphere_lane_slots"], 24);
+  EXPECT_EQ(meta["config"]["traversal"], "hybrid");
+  EXPECT_EQ(meta["config"]["hybrid_threshold"], 5);
+  EXPECT_EQ(meta["config"]["counters"], true);
 }
 
 // The loop's side of a window: open for `openFrames` frames, then closed;

@@ -4,6 +4,7 @@
 
 #include "core/sha256.h"
 #include "render/cpu_renderers.h"
+#include "rt_schema_metadata.h"
 #include "test_support.h"
 
 namespace rt {
@@ -41,6 +42,61 @@ TEST(RunMetadata, WindowObjectIsTheRunsWindowOutcome) {
   EXPECT_EQ(written["swapchain_images"], 3);
   EXPECT_EQ(written["frames_presented"], 7);
   EXPECT_EQ(written["closed"], true);
+}
+
+// Where no traversal applies the config says so as the CSV does (""), and
+// without --counters there are no totals.
+TEST(RunMetadata, TraversalAndCountersOfARendererWithout) {
+  RunConfig config;
+  config.scenePath = test::scenePath("default");
+  const Scene scene = loadScene(config.scenePath);
+  const auto now = std::chrono::system_clock::now();
+  const RunIdentity id{makeRunId(now), scene.name, SequentialRenderer().info(), config.options, config.extent};
+  const nlohmann::json meta = makeRunMetadata(config, id, scene, {now, now});
+  EXPECT_EQ(meta["config"]["traversal"], "");
+  EXPECT_TRUE(meta["config"]["hybrid_threshold"].is_null());
+  EXPECT_EQ(meta["config"]["counters"], false);
+  EXPECT_TRUE(meta["lane_counters"].is_null());
+}
+
+TEST(RunMetadata, LaneCountersHoldEverySchemaKeyOfTheTotals) {
+  RunConfig config;
+  config.scenePath = test::scenePath("default");
+  config.options.counters = true;
+  const Scene scene = loadScene(config.scenePath);
+  const auto now = std::chrono::system_clock::now();
+  RendererInfo renderer;
+  renderer.kind = RendererKind::simd_tbb;
+  renderer.traversal = Traversal::single;
+  const RunIdentity id{makeRunId(now), scene.name, renderer, config.options, config.extent};
+  LaneCounters totals;
+  totals.raysPerDepth[0] = 9000;
+  totals.raysPerDepth[1] = 4000;
+  totals.nodeVisits = 21;
+  totals.nodeLaneSlots = 22;
+  totals.nodeLanesActive = 23;
+  totals.sphereTests = 24;
+  totals.sphereLaneSlots = 25;
+  totals.sphereLanesActive = 26;
+  totals.shadeLaneSlots = 27;
+  totals.shadeLanesActive = 28;
+  const nlohmann::json meta = makeRunMetadata(config, id, scene, {now, now}, std::nullopt, totals);
+  const nlohmann::json& written = meta["lane_counters"];
+  ASSERT_TRUE(written.is_object());
+  EXPECT_EQ(written.size(), schema::kMetadataLaneCountersKeyNames.size());
+  EXPECT_EQ(written["rays"], 13000);
+  EXPECT_EQ(written["rays_per_depth"], nlohmann::json::array({9000, 4000}));
+  EXPECT_EQ(written["node_visits"], 21);
+  EXPECT_EQ(written["node_lane_slots"], 22);
+  EXPECT_EQ(written["node_lanes_active"], 23);
+  EXPECT_EQ(written["sphere_tests"], 24);
+  EXPECT_EQ(written["sphere_lane_slots"], 25);
+  EXPECT_EQ(written["sphere_lanes_active"], 26);
+  EXPECT_EQ(written["shade_lane_slots"], 27);
+  EXPECT_EQ(written["shade_lanes_active"], 28);
+  EXPECT_EQ(meta["config"]["traversal"], "single");
+  EXPECT_TRUE(meta["config"]["hybrid_threshold"].is_null()) << "null unless hybrid";
+  EXPECT_EQ(meta["config"]["counters"], true);
 }
 
 TEST(RunMetadata, TimesAreRfc3339Utc) {

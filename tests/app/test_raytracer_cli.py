@@ -185,3 +185,79 @@ def test_accel_is_recorded_with_the_structure_it_built(raytracer, repo_root, tmp
             assert structure["kind"] == "bvh" and structure["nodes"] > 1 and structure["nodes"] % 2 == 1
             assert structure["build_ms"] > 0 and structure["depth"] >= 1
     assert run(raytracer, flag, "--accel", "kd-tree", *SMALL).returncode == 2
+
+
+# The traversal axis and the counters belong to the SIMD kernel (schema:
+# traversals); a combination that would record a setting the run ignored
+# is refused before anything is rendered or written.
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (
+            ["--sequential", "--accel", "bvh", "--traversal", "single"],
+            "--traversal single applies to the SIMD renderers (--simd and --simd-only) with --accel bvh; "
+            "renderer sequential has no traversal",
+        ),
+        (["--simd", "--accel", "none", "--traversal", "single"], "--traversal single walks a BVH: it needs --accel"),
+        (["--simd-only", "--traversal", "hybrid"], "--traversal hybrid walks a BVH: it needs --accel bvh"),
+        (
+            ["--simd", "--accel", "bvh", "--traversal", "hybrid", "--hybrid-threshold", "0"],
+            "--hybrid-threshold: expected a positive integer, got '0'",
+        ),
+        (["--simd", "--accel", "bvh", "--hybrid-threshold", "4"], "--hybrid-threshold needs --traversal hybrid"),
+        (
+            ["--sequential", "--counters"],
+            "--counters: only the SIMD renderers (--simd and --simd-only) count; renderer sequential does not",
+        ),
+        (["--tbb-only", "--counters"], "renderer tbb_only does not"),
+        (["--simd", "--accel", "bvh", "--traversal", "zigzag"], "--traversal: zigzag not in {packet,single,hybrid}"),
+    ],
+)
+def test_bad_traversal_or_counters_exit_2_naming_the_option(raytracer, repo_root, tmp_path, args, message):
+    done = run(raytracer, *args, repo_root / "scenes/random20.json", *SMALL, "--csv", tmp_path / "run.csv")
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.splitlines()[-1].startswith("raytracer: "), "the reason is the last line"
+    assert message in done.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def read_rows(csv_path):
+    with csv_path.open(newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_traversal_and_counter_columns_are_empty_where_none_applies(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    scene = repo_root / "scenes/random20.json"
+    done = run(raytracer, "--sequential", "--accel", "bvh", scene, *SMALL, "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    rows = read_rows(csv_path)
+    counter_columns = schema.frame_csv_columns()[schema.frame_csv_columns().index("rays") :]
+    assert {r[c] for r in rows for c in ["traversal", "hybrid_threshold", *counter_columns]} == {""}
+    config = json.loads((tmp_path / "run.meta.json").read_text())
+    assert config["config"]["traversal"] == "" and config["config"]["hybrid_threshold"] is None
+    assert config["config"]["counters"] is False and config["lane_counters"] is None
+
+
+def test_counters_is_recorded_in_the_config(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    args = ["--simd-only", "--accel", "bvh", "--counters", repo_root / "scenes/random20.json", *SMALL]
+    done = run(raytracer, *args, "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    assert meta["config"]["counters"] is True
+    assert schema.metadata_key_problems(meta) == []
+
+
+# RendererInfo::traversal is the SIMD kernel's to fill (render/renderer.h);
+# until its traversals are merged it reports none, and this fails strictly
+# once it does, so that the marker goes with it.
+@pytest.mark.xfail(strict=True, reason="the SIMD kernel does not report its traversal yet (RendererInfo::traversal)")
+def test_a_simd_bvh_run_records_the_packet_traversal(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, "--simd", "--accel", "bvh", repo_root / "scenes/random20.json", *SMALL, "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    rows = read_rows(csv_path)
+    assert {r["traversal"] for r in rows} == {"packet"}
+    assert {r["hybrid_threshold"] for r in rows} == {""}
+    assert json.loads((tmp_path / "run.meta.json").read_text())["config"]["traversal"] == "packet"

@@ -81,7 +81,7 @@ namespace {
 
 // Every CPU renderer sizes its working buffer and scratch in prepare();
 // oneTBB's own task storage does not go through operator new either. The
-// recorder, like the frame loop's, was sized before the frames.
+// recorder, like the frame loop's with --counters, was sized before the frames.
 TEST(NoAllocation, FramePhasesOfEveryCpuRenderer) {
   for (std::size_t i = 0; i < schema::kRendererDefinitions.size(); ++i) {
     const auto kind = static_cast<RendererKind>(i);
@@ -91,14 +91,14 @@ TEST(NoAllocation, FramePhasesOfEveryCpuRenderer) {
       for (const Stage stage : {Stage::original, Stage::single_pass, Stage::optimized}) {
         const auto renderer = makeCpuRenderer(kind);
         renderer->prepare(scene, {67, 29}, optionsForStage(stage));
-        FrameRecorder recorder(4);
+        FrameRecorder recorder(4, true);
         const long before = gAllocations.load();
         for (long long k = 0; k < 4; ++k) {
           renderer->render(cameraAtFrame(scene.camera, k));
           renderer->present();
           FrameRecord record;
           record.frame = k;
-          recorder.record(record);
+          recorder.record(record, renderer->lastCounters());
         }
         EXPECT_EQ(gAllocations.load() - before, 0) << nameOf(kind) << " " << name << " stage " << nameOf(stage);
       }
