@@ -2,7 +2,8 @@
 raytracer command line, and the order their repetitions run in.
 
 Pure functions: the matrix of scenes x stages x accels x renderers x each
-renderer's axes, the profile's [[overrides]] applied, and the schedule
+renderer's axes (x traversals and hybrid thresholds where the SIMD kernel
+walks the BVH), the profile's [[overrides]] applied, and the schedule
 (round-robin, shuffle or blocked). A generated scene keeps its stand-in
 path under profiles.GENERATED_SCENES until the bench runner writes it into
 the run directory (place_generated_scenes).
@@ -19,8 +20,11 @@ from pathlib import Path
 from rtbench import names
 from rtbench.profiles import GENERATED_SCENES, OVERRIDE_AXES, RUN_AXES, SIZE_AXIS, Profile, ProfileError, Variant
 
-# The raytracer option of the profile's accels axis.
+# The raytracer options of the profile's accels, traversals, hybrid_thresholds and counters.
 ACCEL_FLAG = "--accel"
+TRAVERSAL_FLAG = "--traversal"
+HYBRID_THRESHOLD_FLAG = "--hybrid-threshold"
+COUNTERS_FLAG = "--counters"
 # Every axis and the raytracer option it sets: the renderer options of the
 # schema (a renderer takes those its renderers[].options lists), then RUN_AXES.
 RENDERER_AXES = {**names.OPTION_FLAGS, **RUN_AXES}
@@ -41,17 +45,22 @@ class Config:
     axes: tuple[tuple[str, str], ...] = ()
     args: tuple[str, ...] = ()
     accel: str = names.BRUTE_FORCE
+    # "" where none applies (names.takes_traversal); None: the kernel's default threshold.
+    traversal: str = ""
+    hybrid_threshold: int | None = None
+    counters: bool = False
 
     @property
     def id(self) -> str:
         """A file-name-safe identifier, unique within a profile (the accel in
-        it where it is not brute force)."""
+        it where it is not brute force, the traversal where it is not packets)."""
         accel = [] if self.accel == names.BRUTE_FORCE else [self.accel]
         parts = [
             self.scene,
             self.renderer,
             self.variant.label,
             *accel,
+            *names.traversal_tag(self.traversal, self.hybrid_threshold),
             *(f"{axis}{value}" for axis, value in self.axes),
         ]
         return re.sub(r"[^A-Za-z0-9_.-]+", "_", "-".join(parts))
@@ -60,6 +69,12 @@ class Config:
         """The raytracer command line for one repetition of this configuration."""
         argv = [str(binary), names.RENDERER_FLAGS[self.renderer], self.scene_path, *self.variant.args()]
         argv += [ACCEL_FLAG, self.accel]
+        if self.traversal:
+            argv += [TRAVERSAL_FLAG, self.traversal]
+        if self.hybrid_threshold is not None:
+            argv += [HYBRID_THRESHOLD_FLAG, str(self.hybrid_threshold)]
+        if self.counters:
+            argv.append(COUNTERS_FLAG)
         argv += ["--width", str(self.width), "--height", str(self.height)]
         argv += ["--warmup", str(self.warmup), "--frames", str(self.frames)]
         for axis, value in self.axes:
@@ -79,6 +94,9 @@ class Config:
             "algorithm": self.variant.algorithm,
             "early_exits": list(self.variant.early_exits),
             "accel": self.accel,
+            "traversal": self.traversal,
+            "hybrid_threshold": self.hybrid_threshold,
+            "counters": self.counters,
             "width": self.width,
             "height": self.height,
             "warmup": self.warmup,
@@ -130,9 +148,10 @@ def expand(
     forced: dict | None = None,
 ) -> list[Config]:
     """Every configuration of the matrix (scene x stage x accel x renderer x
-    its axes), scene-major and renderer-innermost, so that running them in
-    this order already alternates renderers. `forced` (from the command line:
-    width, height, warmup, frames) wins over the profile and its overrides."""
+    its traversals x its axes), scene-major and renderer-innermost, so that
+    running them in this order already alternates renderers. `forced` (from
+    the command line: width, height, warmup, frames) wins over the profile
+    and its overrides."""
     configs = []
     for scene_path, variant, accel, renderer in itertools.product(
         scene_paths, profile.variants, profile.accels, profile.renderers
@@ -142,7 +161,10 @@ def expand(
         spec = profile.renderers[renderer]
         axes = [axis for axis in RENDERER_AXES if axis in spec]
         ids = set()  # of this scene, stage, accel and renderer
-        for combo in itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes)):
+        walks = traversals(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
+        for (traversal, threshold), combo in itertools.product(
+            walks, itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes))
+        ):
             config = Config(
                 scene=scene_path.stem,
                 scene_path=str(scene_path),
@@ -155,6 +177,9 @@ def expand(
                 axes=tuple((a, value) for a, (_, value) in zip(axes, combo)),
                 args=(*profile.args, *spec["args"]),
                 accel=names.OWN_ACCEL.get(renderer, accel),
+                traversal=traversal,
+                hybrid_threshold=threshold,
+                counters=profile.counters and names.counts_lanes(renderer),
             )
             config = apply_overrides(sized(config), profile.overrides, dict(zip(axes, (w for w, _ in combo))))
             # Two written values of one command line ("all" and 2 on 2 cores) run once, the first kept.
@@ -169,6 +194,17 @@ def expand(
             configs.append(replace(config, **(forced or {})))
     _check_unique(configs)
     return configs
+
+
+def traversals(profile: Profile, renderer: str, accel: str) -> list[tuple[str, int | None]]:
+    """(traversal, hybrid threshold) of each configuration a renderer runs at
+    an accel: the profile's traversals where the SIMD kernel walks the BVH
+    (hybrid once per threshold, or once with the kernel's default), else one
+    configuration without a traversal."""
+    if not names.takes_traversal(renderer, accel):
+        return [("", None)]
+    thresholds = profile.hybrid_thresholds or (None,)
+    return [(t, h) for t in profile.traversals for h in (thresholds if t == names.HYBRID else (None,))]
 
 
 def sized(config: Config) -> Config:
@@ -213,6 +249,7 @@ def _matches(config: Config, override: dict, written: dict[str, str]) -> bool:
         and config.variant.label in override.get("stages", [config.variant.label])
         and config.scene in override.get("scenes", [config.scene])
         and config.accel in override.get("accels", [config.accel])
+        and (config.traversal in override["traversals"] if "traversals" in override else True)
         and all(_axis_matches(written, override, axis) for axis in OVERRIDE_AXES)
     )
 

@@ -45,7 +45,9 @@ def meta_path_for(csv_path: Path) -> Path:
 
 
 def read_frame_csv(path: Path) -> dict[str, list]:
-    """Reads a frame CSV into columns, converting each by its schema type."""
+    """Reads a frame CSV into columns, converting each by its schema type. A
+    CSV written before some of the schema's optional columns (names.OPTIONAL_COLUMNS)
+    reads as if they were empty: no traversal, no counters."""
     try:
         with path.open(newline="", encoding="utf-8") as f:
             rows = list(csv.reader(f))
@@ -53,25 +55,30 @@ def read_frame_csv(path: Path) -> dict[str, list]:
         raise RunDataError(f"{path}: cannot read: {e}") from None
     if not rows:
         raise RunDataError(f"{path}: empty file (no header, no frames)")
-    _check_header(path, rows[0])
+    header = rows[0]
+    _check_header(path, header)
     if len(rows) == 1:
         raise RunDataError(f"{path}: header only, no frames (truncated?)")
     columns: dict[str, list] = {c: [] for c in names.CSV_COLUMNS}
     for lineno, row in enumerate(rows[1:], start=2):
-        if len(row) != len(names.CSV_COLUMNS):
+        if len(row) != len(header):
             raise RunDataError(
-                f"{path}: line {lineno}: {len(row)} fields, expected {len(names.CSV_COLUMNS)} (truncated or corrupted?)"
+                f"{path}: line {lineno}: {len(row)} fields, expected {len(header)} (truncated or corrupted?)"
             )
-        for column, text in zip(names.CSV_COLUMNS, row):
+        for column, text in zip(header, row):
             columns[column].append(_convert(path, lineno, column, text))
+    for column in names.CSV_COLUMNS:
+        if column not in header:
+            columns[column] = [_convert(path, 0, column, "")] * (len(rows) - 1)
     _check_values(path, columns)
     return columns
 
 
 def _check_header(path: Path, header: list[str]) -> None:
-    if header == names.CSV_COLUMNS:
+    """The schema's columns in its order; only optional ones may be missing (an older CSV)."""
+    if header == [c for c in names.CSV_COLUMNS if c in header or c not in names.OPTIONAL_COLUMNS]:
         return
-    missing = [c for c in names.CSV_COLUMNS if c not in header]
+    missing = [c for c in names.CSV_COLUMNS if c not in header and c not in names.OPTIONAL_COLUMNS]
     extra = [c for c in header if c not in names.CSV_COLUMNS]
     detail = []
     if missing:
@@ -79,7 +86,7 @@ def _check_header(path: Path, header: list[str]) -> None:
     if extra:
         detail.append(f"unexpected {', '.join(extra)}")
     if not detail:
-        detail.append("columns out of order")
+        detail.append("columns out of order or repeated")
     raise RunDataError(f"{path}: header does not match the schema's frame_csv ({'; '.join(detail)})")
 
 
@@ -87,6 +94,8 @@ def _convert(path: Path, lineno: int, column: str, text: str):
     kind = names.COLUMN_TYPES[column]
     try:
         if kind == "int":
+            if text == "" and column in names.OPTIONAL_COLUMNS:
+                return None
             return int(text)
         if kind == "float":
             if text == "":
@@ -116,10 +125,53 @@ def _check_values(path: Path, columns: dict[str, list]) -> None:
     if columns[names.FRAME] != list(range(len(columns[names.FRAME]))):
         raise RunDataError(f"{path}: frames are not numbered 0..{len(columns[names.FRAME]) - 1} (rows lost?)")
     for column, kind in names.COLUMN_TYPES.items():
-        if kind == "float":
-            empty = sum(math.isnan(v) for v in columns[column])
+        if kind == "float" or column in names.COUNTER_COLUMNS:
+            empty = sum(_empty(v) for v in columns[column])
             if 0 < empty < len(columns[column]):
                 raise RunDataError(f"{path}: column {column} is empty in {empty} of {len(columns[column])} frames")
+    _check_traversals(path, columns)
+    _check_counters(path, columns)
+
+
+def _empty(value) -> bool:
+    return value is None or value == "" or (isinstance(value, float) and math.isnan(value))
+
+
+def _check_traversals(path: Path, columns: dict[str, list]) -> None:
+    """A traversal of the schema (or none), and a hybrid threshold with traversal hybrid only."""
+    _check_members(path, names.TRAVERSAL, columns[names.TRAVERSAL], ["", *names.TRAVERSALS])
+    for traversal, threshold in zip(columns[names.TRAVERSAL], columns[names.HYBRID_THRESHOLD]):
+        if threshold is not None and (traversal != names.HYBRID or threshold < 0):
+            raise RunDataError(
+                f"{path}: column {names.HYBRID_THRESHOLD}: {threshold} with traversal {traversal or '(none)'} "
+                f"(a count of lanes >= 0, with traversal {names.HYBRID} only)"
+            )
+
+
+def _check_counters(path: Path, columns: dict[str, list]) -> None:
+    """Counts are never negative, a kind of lane work never has more active
+    lanes than slots, and rays_per_depth is counts joined by '/' that add up to rays."""
+    for column in names.COUNTER_COLUMNS:
+        if names.COLUMN_TYPES[column] == "int" and any(v is not None and v < 0 for v in columns[column]):
+            raise RunDataError(f"{path}: column {column}: a negative count")
+    for slots, active in names.LANE_WORK.values():
+        for lineno, (s, a) in enumerate(zip(columns[slots], columns[active]), start=2):
+            if s is not None and a is not None and a > s:
+                raise RunDataError(f"{path}: line {lineno}: {active} {a} exceeds {slots} {s}")
+    for lineno, (text, rays) in enumerate(zip(columns[names.RAYS_PER_DEPTH], columns[names.RAYS]), start=2):
+        if text == "":
+            continue
+        parts = text.split(names.DEPTH_SEPARATOR)
+        if not all(p.isdigit() for p in parts):
+            raise RunDataError(
+                f"{path}: line {lineno}: column {names.RAYS_PER_DEPTH}: {text!r} is not counts joined by "
+                f"'{names.DEPTH_SEPARATOR}'"
+            )
+        if rays is not None and sum(map(int, parts)) != rays:
+            raise RunDataError(
+                f"{path}: line {lineno}: column {names.RAYS_PER_DEPTH}: {text!r} adds up to "
+                f"{sum(map(int, parts))}, not {names.RAYS} {rays}"
+            )
 
 
 def _check_members(path: Path, column: str, values: list, allowed: list) -> None:
@@ -148,6 +200,10 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     meta = read_metadata(meta_path)
     _check_against_meta(csv_path, meta_path, columns, meta)
     frames = pd.DataFrame(columns)
+    for column in names.OPTIONAL_COLUMNS:
+        if names.COLUMN_TYPES[column] == "int":
+            frames[column] = pd.array(columns[column], dtype="Int64")
+    frames[names.TRAVERSAL] = _traversals(frames)
     build = meta.get(names.META_BUILD) or {}
     host = meta.get(names.META_HOST) or {}
     frames[names.STAGE] = [names.stage_of(a, e) for a, e in zip(frames[names.ALGORITHM], frames[names.EARLY_EXIT])]
@@ -161,6 +217,16 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     frames[names.GIT_DIRTY] = bool(build.get(names.GIT_DIRTY, False))
     frames[names.SOURCE] = source
     return frames
+
+
+def _traversals(frames: pd.DataFrame) -> list[str]:
+    """The traversal column; where a CSV leaves it empty (or lacks it) for the
+    SIMD kernel on the BVH, packets: the only traversal before the traversal
+    axis (schema: traversals), so runs before and after it compare."""
+    return [
+        t or (names.PACKET if names.takes_traversal(r, a) else "")
+        for t, r, a in zip(frames[names.TRAVERSAL], frames[names.RENDERER], frames[names.ACCEL])
+    ]
 
 
 def _sphere_count(meta_path: Path, meta: dict) -> int:

@@ -1,5 +1,6 @@
 """Speedup and the Karp-Flatt metric, as pure functions, and the table of
-them for a run's summary.
+them for a run's summary; the cost-vs-spheres fits; and what the SIMD
+kernel's lane counters (--counters) give: rays per second and lane occupancy.
 
 Speedup S = T_ref / T_par against the reference renderer at the same scene,
 stage and image size (as the thesis did: each table's sequential column).
@@ -20,7 +21,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from rtbench import names
+from rtbench import names, stats
 
 GPU_PROCESSORS_FILE = names.REPO_ROOT / "data" / "gpu_processors.toml"
 
@@ -154,12 +155,14 @@ def metrics_table(
 
 
 def scaling_table(summary: pd.DataFrame) -> pd.DataFrame:
-    """Strong scaling: for each renderer / lanes / scene / stage / accel / size
-    with more than one thread count, S(t) = T(fewest threads) / T(t) x fewest."""
+    """Strong scaling: for each renderer / lanes / scene / stage / accel /
+    traversal / size with more than one thread count, S(t) = T(fewest threads) / T(t) x fewest."""
     keys = [
         names.SCENE,
         names.STAGE,
         names.ACCEL,
+        names.TRAVERSAL,
+        names.HYBRID_THRESHOLD,
         names.RENDERER,
         names.LANES,
         names.SIMD_TARGET,
@@ -266,3 +269,85 @@ def cost_fits(curves: pd.DataFrame) -> pd.DataFrame:
         "r2",
     ]
     return pd.DataFrame(rows, columns=columns)
+
+
+# --- lane counters (--counters) ------------------------------------------------------
+
+MRAYS_PER_S = "mrays_per_s"
+FRAMES = "frames"
+MASKED_SHARE = "masked_share"
+# Per kind of lane work (names.LANE_WORK): its occupancy column, active / slots.
+OCCUPANCY = {kind: f"{kind}_occupancy" for kind in names.LANE_WORK}
+RAYS_PER_FRAME = "rays_per_frame"
+NODE_VISITS_PER_FRAME = "node_visits_per_frame"
+SPHERE_TESTS_PER_FRAME = "sphere_tests_per_frame"
+
+
+def counted(frames: pd.DataFrame) -> pd.DataFrame:
+    """The measured frames that carry counters (runs with --counters)."""
+    measured = stats.measured(frames)
+    return measured[measured[names.RAYS].notna()]
+
+
+def has_counters(frames: pd.DataFrame) -> bool:
+    return not counted(frames).empty
+
+
+def throughput(frames: pd.DataFrame) -> pd.DataFrame:
+    """Per configuration with counters: Mrays/s, the median over its measured
+    frames of rays (all bounce depths) / render_ms / 1000, i.e. millions of
+    rays per second of the Render phase."""
+    rows = []
+    for key, group in counted(frames).groupby(names.CONFIG_KEYS, sort=False, dropna=False):
+        rays = group[names.RAYS].astype(float).to_numpy()
+        ms = group[names.RENDER_MS].astype(float).to_numpy()
+        per_frame = [r / t / 1000.0 for r, t in zip(rays, ms) if t > 0]
+        rows.append({**dict(zip(names.CONFIG_KEYS, key)), MRAYS_PER_S: stats.median(per_frame)})
+    return pd.DataFrame(rows, columns=[*names.CONFIG_KEYS, MRAYS_PER_S])
+
+
+def with_throughput(summary: pd.DataFrame, frames: pd.DataFrame) -> pd.DataFrame:
+    """The summary with its Mrays/s column where the runs have counters
+    (NaN for configurations without); the summary as it is otherwise."""
+    if not has_counters(frames):
+        return summary
+    return summary.merge(throughput(frames), on=names.CONFIG_KEYS, how="left")
+
+
+def lane_occupancy(frames: pd.DataFrame) -> pd.DataFrame:
+    """Per configuration with counters, from its counters summed over the
+    measured frames: rays, node visits and sphere tests per frame, each kind
+    of lane work's occupancy (lanes active / lane slots; NaN where it had no
+    slots), and the masked share of all lane work, 1 - sum(active) / sum(slots)
+    over node visits, sphere tests and shading: the vector lanes whose work
+    was thrown away. Sorted as the summary."""
+    rows = []
+    for key, group in counted(frames).groupby(names.CONFIG_KEYS, sort=False, dropna=False):
+        sums = {c: int(group[c].sum()) for c in names.COUNTER_COLUMNS if c != names.RAYS_PER_DEPTH}
+        n = len(group)
+        row = {**dict(zip(names.CONFIG_KEYS, key)), FRAMES: n, **sums}
+        row[RAYS_PER_FRAME] = sums[names.RAYS] / n
+        row[NODE_VISITS_PER_FRAME] = sums[names.NODE_VISITS] / n
+        row[SPHERE_TESTS_PER_FRAME] = sums[names.SPHERE_TESTS] / n
+        for kind, (slots, active) in names.LANE_WORK.items():
+            row[OCCUPANCY[kind]] = _share(sums[active], sums[slots])
+        all_slots = sum(sums[slots] for slots, _ in names.LANE_WORK.values())
+        all_active = sum(sums[active] for _, active in names.LANE_WORK.values())
+        row[MASKED_SHARE] = 1.0 - _share(all_active, all_slots)
+        rows.append(row)
+    columns = [
+        *names.CONFIG_KEYS,
+        FRAMES,
+        *(c for c in names.COUNTER_COLUMNS if c != names.RAYS_PER_DEPTH),
+        RAYS_PER_FRAME,
+        NODE_VISITS_PER_FRAME,
+        SPHERE_TESTS_PER_FRAME,
+        *OCCUPANCY.values(),
+        MASKED_SHARE,
+    ]
+    table = pd.DataFrame(rows, columns=columns)
+    return stats.sort_configs(table) if rows else table
+
+
+def _share(part: float, whole: float) -> float:
+    return part / whole if whole > 0 else math.nan

@@ -48,12 +48,33 @@ DEVICE = _column("device")
 ALGORITHM = _column("algorithm")
 EARLY_EXIT = _column("early_exit")
 ACCEL = _column("accel")
+TRAVERSAL = _column("traversal")
+HYBRID_THRESHOLD = _column("hybrid_threshold")
 WIDTH = _column("width")
 HEIGHT = _column("height")
 FRAME = _column("frame")
 WARMUP = _column("warmup")
 RENDER_MS = _column("render_ms")
 GPU_MS = _column("gpu_ms")
+# --counters: the SIMD kernel's tallies of one frame (docs/render-model.md);
+# each kind of lane work as (lane slots, lanes active): the vector lanes its
+# steps occupied and those that did useful work.
+RAYS = _column("rays")
+RAYS_PER_DEPTH = _column("rays_per_depth")
+NODE_VISITS = _column("node_visits")
+SPHERE_TESTS = _column("sphere_tests")
+LANE_WORK = {
+    "node": (_column("node_lane_slots"), _column("node_lanes_active")),
+    "sphere": (_column("sphere_lane_slots"), _column("sphere_lanes_active")),
+    "shade": (_column("shade_lane_slots"), _column("shade_lanes_active")),
+}
+COUNTER_COLUMNS = [RAYS, RAYS_PER_DEPTH, NODE_VISITS, SPHERE_TESTS, *(c for pair in LANE_WORK.values() for c in pair)]
+# rays_per_depth: the rays of depth 0, 1, ... joined by this.
+DEPTH_SEPARATOR = "/"
+# Columns that are empty where they do not apply (a traversal where the SIMD
+# kernel does not walk a BVH, counters without --counters), and that a CSV
+# written before them lacks: the loader reads such a CSV as if they were empty.
+OPTIONAL_COLUMNS = [TRAVERSAL, HYBRID_THRESHOLD, *COUNTER_COLUMNS]
 # The host wall time of each phase of the frame loop (the schema's phases:
 # Update, Render, Present), whose sum is the time of the whole frame.
 PHASE_MS = [_column(f"{phase.lower()}_ms") for phase in schema.schema()["phases"]]
@@ -106,6 +127,8 @@ CONFIG_KEYS = [
     ALGORITHM,
     EARLY_EXIT,
     ACCEL,
+    TRAVERSAL,
+    HYBRID_THRESHOLD,
     THREADS,
     LANES,
     SIMD_TARGET,
@@ -142,9 +165,26 @@ EARLY_EXITS: list[str] = list(schema.schema()["early_exits"])
 ACCELS: list[str] = [a["name"] for a in schema.schema()["accels"]]
 # The accel of brute force (the thesis' algorithm, and the default).
 BRUTE_FORCE: str = ACCELS[0]
+TRAVERSALS: list[str] = [t["name"] for t in schema.schema()["traversals"]]
 CSV_COLUMNS: list[str] = schema.frame_csv_columns()
 COLUMN_TYPES: dict[str, str] = {c["name"]: c["type"] for c in schema.schema()["frame_csv"]}
 SCHEMA_VERSION: int = schema.schema()["version"]
+
+
+def _member(name: str, key: str, members: list[str]) -> str:
+    """A name of one of the schema's lists that the library needs; fails if the schema lacks it."""
+    if name not in members:
+        raise ImportError(f"rtbench needs {key} {name!r}, which schema/rt_schema.json does not define")
+    return name
+
+
+# The SIMD kernel walks a BVH in one of the traversals; packets unless told
+# otherwise (the only way before the traversal axis). Hybrid takes a threshold.
+SIMD_KERNEL = _member("simd", "kernels", [k["name"] for k in schema.schema()["kernels"]])
+BVH = _member("bvh", "accels", ACCELS)
+PACKET = _member("packet", "traversals", TRAVERSALS)
+HYBRID = _member("hybrid", "traversals", TRAVERSALS)
+KERNELS: dict[str, str | None] = {name: r["kernel"] for name, r in schema.renderers().items()}
 
 
 def reference_renderer() -> str:
@@ -164,6 +204,29 @@ def accepts(renderer: str, option: str) -> bool:
     return option in RENDERER_OPTIONS.get(renderer, [])
 
 
+def counts_lanes(renderer: str) -> bool:
+    """Whether `renderer` runs the SIMD kernel, the one that takes --counters."""
+    return KERNELS.get(renderer) == SIMD_KERNEL
+
+
+def takes_traversal(renderer: str, accel: str) -> bool:
+    """Whether a configuration has a traversal: the SIMD kernel walking the BVH."""
+    return counts_lanes(renderer) and accel == BVH
+
+
+def traversal_tag(traversal: str, hybrid_threshold=None) -> list[str]:
+    """[traversal] where it is not packets (which labels leave unsaid, as
+    before the traversal axis), with the hybrid threshold where there is one:
+    [], ["single"], ["hybrid8"]."""
+    if not traversal or traversal == PACKET:
+        return []
+    try:
+        threshold = str(int(hybrid_threshold))
+    except (TypeError, ValueError):  # None, NaN or pandas' NA: no threshold
+        threshold = ""
+    return [f"{traversal}{threshold}"]
+
+
 def renders_on_cpu(renderer: str) -> bool:
     """True for the CPU renderers; False for those that render on a Vulkan device."""
     return BACKENDS[renderer] == CPU_BACKEND
@@ -181,8 +244,17 @@ def label_options(row) -> list[tuple[str, int]]:
 
 def accel_tag(row) -> list[str]:
     """[accel] where a configuration does not search by brute force (the
-    thesis' algorithm, which labels leave unsaid), else []."""
-    return [] if row[ACCEL] == BRUTE_FORCE else [row[ACCEL]]
+    thesis' algorithm, which labels leave unsaid), else []; then its
+    traversal_tag (a row without the traversal columns has none)."""
+    accel = [] if row[ACCEL] == BRUTE_FORCE else [row[ACCEL]]
+    return accel + traversal_tag(row.get(TRAVERSAL, ""), row.get(HYBRID_THRESHOLD))
+
+
+def traversal_order(traversal: str) -> int:
+    """Sort key: none first, then the traversals in schema order, unknown ones last."""
+    if not traversal:
+        return -1
+    return TRAVERSALS.index(traversal) if traversal in TRAVERSALS else len(TRAVERSALS)
 
 
 def stage_of(algorithm: str, early_exit: str) -> str:

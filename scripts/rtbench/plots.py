@@ -174,9 +174,10 @@ def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
     if scaling.empty:
         return []
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    keys = [names.RENDERER, names.LANES, names.ACCEL, names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT]
-    for key, group in scaling.groupby(keys, sort=False):
-        renderer, lanes, _accel, scene, stage, _w, _h = key
+    keys = [names.RENDERER, names.LANES, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD, names.SCENE]
+    keys += [names.STAGE, names.WIDTH, names.HEIGHT]
+    for key, group in scaling.groupby(keys, sort=False, dropna=False):
+        renderer, lanes, _accel, _traversal, _threshold, scene, stage, _w, _h = key
         lane_text = f" l{lanes}" if lanes > 1 else ""
         accel_text = "".join(f" {tag}" for tag in names.accel_tag(group.iloc[0]))
         ax.plot(
@@ -320,7 +321,13 @@ def cost_vs_spheres(curves: pd.DataFrame, fits: pd.DataFrame, stem: Path) -> lis
         color = colors(i)
         marker = ACCEL_MARKERS[names.accel_order(fit[names.ACCEL]) % len(ACCEL_MARKERS)]
         label = " ".join(
-            [fit[names.RENDERER], *_option_texts(fit), fit[names.ACCEL], *(str(fit[key]) for key in label_keys)]
+            [
+                fit[names.RENDERER],
+                *_option_texts(fit),
+                fit[names.ACCEL],
+                *names.traversal_tag(fit[names.TRAVERSAL], fit[names.HYBRID_THRESHOLD]),
+                *(str(fit[key]) for key in label_keys),
+            ]
         )
         ax.plot(
             points[names.SPHERES],
@@ -358,12 +365,15 @@ def karp_flatt_vs_p(metrics_table: pd.DataFrame, stem: Path) -> list[Path]:
         return []
     on_cpu = metrics_table[names.RENDERER].map(names.renders_on_cpu).astype(bool)
     cpu = metrics_table[on_cpu & np.isfinite(metrics_table["karp_flatt"].astype(float))]
-    work = [names.SCENE, names.STAGE, names.ACCEL, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
-    families = [g for _, g in cpu.groupby([names.RENDERER, *work], sort=False) if g["p"].nunique() > 1]
+    work = [names.SCENE, names.STAGE, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD]
+    work += [names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    families = [g for _, g in cpu.groupby([names.RENDERER, *work], sort=False, dropna=False) if g["p"].nunique() > 1]
     if not families:
         return []
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    label_keys = _varying(pd.concat(families), [names.SCENE, names.STAGE, names.ACCEL, names.WIDTH, names.BUILD_TYPE])
+    label_keys = _varying(
+        pd.concat(families), [names.SCENE, names.STAGE, names.ACCEL, names.TRAVERSAL, names.WIDTH, names.BUILD_TYPE]
+    )
     for family in families:
         renderer = family[names.RENDERER].iloc[0]
         by_lanes = names.accepts(renderer, names.THREADS)

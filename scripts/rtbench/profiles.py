@@ -4,8 +4,10 @@ into configurations and a schedule.
 
 A profile names scenes, stages (or explicit algorithm / early-exit sets),
 accels (how a ray finds its nearest sphere: the schema's accels),
-renderers with their own axes (the renderer options the schema gives each,
-of threads, lanes, grain and partition; and device, present), the image
+traversals (how the SIMD kernel walks the BVH: the schema's traversals) and
+whether the SIMD kernel counts its lane work (counters), renderers with
+their own axes (the renderer options the schema gives each, of threads,
+lanes, grain and partition; and device, present), the image
 size, warm-up and measured frames, repetitions and the interleaving. Every
 key is checked against one table of rules (TOP_RULES and the others below).
 Everything here is pure: reading the TOML is the only I/O. A scene that
@@ -81,6 +83,11 @@ class Profile:
     args: tuple[str, ...]
     timeout_s: float
     overrides: tuple[dict, ...] = field(default_factory=tuple)
+    # The SIMD kernel's traversals of the BVH (names.takes_traversal), and
+    # traversal hybrid's thresholds (empty: the kernel's default).
+    traversals: tuple[str, ...] = (names.PACKET,)
+    hybrid_thresholds: tuple[int, ...] = ()
+    counters: bool = False
     raw: dict = field(default_factory=dict, compare=False)
 
 
@@ -118,6 +125,7 @@ def parse_profile(raw: dict, path: Path) -> Profile:
     variants = tuple(_variant(entry, path, i) for i, entry in enumerate(values["stages"]))
     renderers = _renderers(values["renderers"], path)
     overrides = tuple(_override(o, path, i, variants) for i, o in enumerate(values["overrides"]))
+    _check_traversal_keys(values, renderers, path)
     return Profile(
         name=path.stem,
         path=path,
@@ -138,6 +146,9 @@ def parse_profile(raw: dict, path: Path) -> Profile:
         timeout_s=float(values["timeout_s"]),
         overrides=overrides,
         raw=raw,
+        traversals=tuple(values["traversals"]),
+        hybrid_thresholds=tuple(values.get("hybrid_thresholds", ())),
+        counters=values["counters"],
     )
 
 
@@ -182,6 +193,10 @@ TOP_RULES = {
     "scenes": Rule("str", shape="list"),
     "stages": Rule("stage", shape="list"),
     "accels": Rule("str", [names.BRUTE_FORCE], shape="list", choices=tuple(names.ACCELS)),
+    "traversals": Rule("str", [names.PACKET], shape="list", choices=tuple(names.TRAVERSALS)),
+    # --hybrid-threshold: lanes; 0 would mean the kernel's default, which leaving the key out says.
+    "hybrid_thresholds": Rule("int", OPTIONAL, shape="list", minimum=1),
+    "counters": Rule("bool", False),
     "width": Rule("int", 800, minimum=1),
     "height": Rule("int", 600, minimum=1),
     "warmup": Rule("int", 1, minimum=0),
@@ -204,6 +219,8 @@ OVERRIDE_RULES = {
     "stages": Rule("str", OPTIONAL, shape="list"),
     "scenes": Rule("str", OPTIONAL, shape="list"),
     "accels": replace(TOP_RULES["accels"], default=OPTIONAL),
+    # A configuration without a traversal (names.takes_traversal) never matches them.
+    "traversals": replace(TOP_RULES["traversals"], default=OPTIONAL),
     # Axis values of the configuration as the profile writes them (a number
     # never matches the threads "all" resolves to), e.g. to run the thread
     # counts of a scaling study on one scene only.
@@ -324,6 +341,27 @@ def _renderers(table: dict, path: Path) -> dict[str, dict[str, list]]:
             )
         result[renderer] = check_table(spec, renderer_rules(renderer), path, where)
     return result
+
+
+def _check_traversal_keys(values: dict, renderers: dict, path: Path) -> None:
+    """traversals, hybrid_thresholds and counters must reach a configuration:
+    the SIMD kernel's renderers (with accel bvh for a traversal)."""
+    if len(set(values["traversals"])) != len(values["traversals"]):
+        raise ProfileError(f"{path}: traversals names a traversal twice: {values['traversals']!r}")
+    if len(set(values.get("hybrid_thresholds", []))) != len(values.get("hybrid_thresholds", [])):
+        raise ProfileError(f"{path}: hybrid_thresholds names a threshold twice: {values['hybrid_thresholds']!r}")
+    simd = [r for r in renderers if names.counts_lanes(r)]
+    counting = ", ".join(r for r in names.RENDERERS if names.counts_lanes(r))
+    kernel = f"the renderers of the {names.SIMD_KERNEL} kernel ({counting})"
+    if values["traversals"] != [names.PACKET] and not (simd and names.BVH in values["accels"]):
+        raise ProfileError(
+            f"{path}: traversals: a traversal applies to {kernel} with accel {names.BVH} only, and this "
+            f"profile has {'no such renderer' if not simd else f'no accel {names.BVH}'}"
+        )
+    if "hybrid_thresholds" in values and names.HYBRID not in values["traversals"]:
+        raise ProfileError(f"{path}: hybrid_thresholds: applies to traversal {names.HYBRID}, which traversals lacks")
+    if values["counters"] and not simd:
+        raise ProfileError(f"{path}: counters: only {kernel} count, and this profile runs none of them")
 
 
 def _override(entry: dict, path: Path, index: int, variants: tuple[Variant, ...]) -> dict:

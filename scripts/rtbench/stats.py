@@ -178,22 +178,23 @@ def coefficient_of_variation(values) -> float:
 
 
 def config_label(row) -> str:
-    """scene/renderer/stage[/tN][/lN][/accel]: a configuration's name in
-    warnings, with the threads and lanes where its renderer takes them and the
-    accel where it is not brute force."""
+    """scene/renderer/stage[/tN][/lN][/accel[/traversal]]: a configuration's
+    name in warnings, with the threads and lanes where its renderer takes them,
+    the accel where it is not brute force and the traversal where it is not
+    packets (names.accel_tag)."""
     options = "".join(f"/{option[0]}{value}" for option, value in names.label_options(row))
     accel = "".join(f"/{tag}" for tag in names.accel_tag(row))
     return f"{row[names.SCENE]}/{row[names.RENDERER]}/{row[names.STAGE]}{options}{accel}"
 
 
 def sort_configs(df: pd.DataFrame) -> pd.DataFrame:
-    """Stage, scene, renderer, accel (schema order where the schema has one), threads, lanes."""
+    """Stage, scene, renderer, accel, traversal (schema order where the schema has one), threads, lanes."""
     key = df.assign(
         _stage=df[names.STAGE].map(names.stage_order),
         _renderer=df[names.RENDERER].map(names.renderer_order),
         _accel=df[names.ACCEL].map(names.accel_order),
+        _traversal=df[names.TRAVERSAL].map(names.traversal_order),
     )
-    key = key.sort_values(
-        ["_stage", names.SCENE, "_renderer", "_accel", names.THREADS, names.LANES, names.WIDTH], kind="stable"
-    )
-    return key.drop(columns=["_stage", "_renderer", "_accel"]).reset_index(drop=True)
+    order = ["_stage", names.SCENE, "_renderer", "_accel", "_traversal", names.THREADS, names.LANES, names.WIDTH]
+    key = key.sort_values(order, kind="stable")
+    return key.drop(columns=["_stage", "_renderer", "_accel", "_traversal"]).reset_index(drop=True)

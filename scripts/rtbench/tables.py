@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
-from rtbench import names
+from rtbench import metrics, names
 from rtbench.thesis import TableSpec
 
 MISSING = "–"
@@ -146,11 +146,12 @@ def headline_rows(summary: pd.DataFrame) -> pd.DataFrame:
 
 
 def widest_rows(summary: pd.DataFrame) -> pd.DataFrame:
-    """One configuration per (scene, renderer, stage, accel, size, build):
-    the one with the most threads x lanes (ties: the most lanes)."""
+    """One configuration per (scene, renderer, stage, accel, traversal, size,
+    build): the one with the most threads x lanes (ties: the most lanes)."""
     df = summary.assign(_p=summary[names.THREADS] * summary[names.LANES].clip(lower=1))
     df = df.sort_values(["_p", names.LANES], ascending=False, kind="stable")
-    keys = [names.SCENE, names.RENDERER, names.STAGE, names.ACCEL, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+    keys = [names.SCENE, names.RENDERER, names.STAGE, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD]
+    keys += [names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
     return df.drop_duplicates(keys).drop(columns="_p")
 
 
@@ -336,12 +337,17 @@ CONFIG_COLUMNS = [
     ("stage", "l", lambda d: d[names.STAGE]),
     ("scene", "l", lambda d: d[names.SCENE]),
     ("renderer", "l", lambda d: d[names.RENDERER]),
-    (names.ACCEL, "l", lambda d: d[names.ACCEL]),
+    (names.ACCEL, "l", lambda d: accel_text(d)),
     ("size", "l", lambda d: f"{d[names.WIDTH]}x{d[names.HEIGHT]}"),
     ("threads", "r", lambda d: fmt_int(d[names.THREADS])),
     ("lanes", "r", lambda d: fmt_int(d[names.LANES])),
     ("target / device", "l", lambda d: _target_or_device(d)),
 ]
+
+
+def accel_text(d: dict) -> str:
+    """The accel, and the traversal where it is not packets: 'bvh', 'bvh single', 'bvh hybrid8'."""
+    return " ".join([d[names.ACCEL], *names.traversal_tag(d.get(names.TRAVERSAL, ""), d.get(names.HYBRID_THRESHOLD))])
 
 
 def _config_columns(leave_out: tuple[str, ...] = ()) -> list[tuple]:
@@ -452,8 +458,17 @@ def metrics_vs_thesis(thesis_metrics: pd.DataFrame, metrics: pd.DataFrame, size:
     )
 
 
+def fmt_rate(x: float) -> str:
+    """Millions of rays per second, three significant digits (at least the units)."""
+    if x is None or not math.isfinite(x):
+        return MISSING
+    return f"{x:.0f}" if abs(x) >= 100 else f"{x:.3g}"
+
+
 def summary_table(summary: pd.DataFrame) -> Table:
-    """Every configuration with every statistic (warm-up frames excluded)."""
+    """Every configuration with every statistic (warm-up frames excluded),
+    and Mrays/s where the runs have counters (metrics.with_throughput)."""
+    rate = metrics.MRAYS_PER_S in summary.columns
     rows = []
     for r in summary.itertuples(index=False):
         d = r._asdict()
@@ -471,19 +486,86 @@ def summary_table(summary: pd.DataFrame) -> Table:
                 fmt_int(d["outliers"]),
                 fmt_int(d["repetitions"]),
                 fmt_percent(d["rep_spread"]),
+                *([fmt_rate(d[metrics.MRAYS_PER_S])] if rate else []),
             ]
         )
     headers, align = _config_headers()
+    notes = [
+        "n = measured frames over all repetitions; CI = bootstrap 95% CI of the median (2000 resamples, seeded); "
+        "outliers = frames with |modified z| > 3.5 (flagged, kept); rep spread = coefficient of variation of the "
+        "per-repetition medians."
+    ]
+    if rate:
+        notes.append(MRAYS_NOTE)
     return Table(
         "summary",
         "Every configuration: render time per frame [ms]",
-        [*headers, "n", "median", "95% CI", "mean", "std", "MAD", "p95", "p99", "outliers", "reps", "rep spread"],
-        rows,
-        align + "rrlrrrrrrrr",
         [
-            "n = measured frames over all repetitions; CI = bootstrap 95% CI of the median (2000 resamples, seeded); "
-            "outliers = frames with |modified z| > 3.5 (flagged, kept); rep spread = coefficient of variation of the "
-            "per-repetition medians."
+            *headers,
+            *("n", "median", "95% CI", "mean", "std", "MAD", "p95", "p99", "outliers", "reps", "rep spread"),
+            *(["Mrays/s"] if rate else []),
+        ],
+        rows,
+        align + "rrlrrrrrrrr" + ("r" if rate else ""),
+        notes,
+    )
+
+
+MRAYS_NOTE = (
+    "Mrays/s = median over the measured frames of rays / render_ms / 1000: millions of rays (every bounce "
+    f"depth) per second of the Render phase, from the --counters runs; {MISSING} = a configuration without counters."
+)
+
+
+# The configuration columns of the lane-occupancy table: what changes the
+# counts (threads do not: their tallies are summed).
+OCCUPANCY_LEAVE_OUT = ("threads", "target / device")
+
+
+def lane_occupancy(occupancy: pd.DataFrame) -> Table:
+    """The SIMD kernel's lane work per configuration with counters
+    (metrics.lane_occupancy): rays and node visits per frame, each kind's
+    occupancy and the masked share of all of it."""
+    rows = []
+    for r in occupancy.itertuples(index=False):
+        d = r._asdict()
+        cells = _config_cells(d, leave_out=OCCUPANCY_LEAVE_OUT)
+        rows.append(
+            [
+                cells[0],
+                d[names.EARLY_EXIT],
+                *cells[1:],
+                fmt_int(round(d[metrics.RAYS_PER_FRAME])),
+                fmt_int(round(d[metrics.NODE_VISITS_PER_FRAME])),
+                *(fmt_percent(d[metrics.OCCUPANCY[kind]]) for kind in names.LANE_WORK),
+                fmt_percent(d[metrics.MASKED_SHARE]),
+            ]
+        )
+    headers, align = _config_headers(leave_out=OCCUPANCY_LEAVE_OUT)
+    return Table(
+        "lane-occupancy",
+        "Lane occupancy of the SIMD kernel: the share of vector lanes doing work that counts",
+        [
+            headers[0],
+            "early exits",
+            *headers[1:],
+            "rays / frame",
+            "node visits / frame",
+            "node occupancy",
+            "sphere-test occupancy",
+            "shading occupancy",
+            "masked share",
+        ],
+        rows,
+        align[0] + "l" + align[1:] + "rrrrrr",
+        [
+            "Counters of the measured frames summed per configuration (--counters). rays: every ray that looked for "
+            "its nearest sphere, all bounce depths. A node visit is one vector box test (a packet against a box, or "
+            "one ray against a wide node's child boxes). Occupancy = lanes active / lane slots of that kind of step: "
+            "node visits (rays reaching the box, or child slots holding a child), sphere tests (rays still searching, "
+            "or spheres of a leaf) and shading (rays that hit a sphere); "
+            f"{MISSING} = no such step. Masked share = 1 - (sum of active lanes) / (sum of lane slots) over all "
+            "three: the share of the lane work that was masked off."
         ],
     )
 

@@ -3,8 +3,10 @@ bench runner writes (manifest, frames/<config>-r<rep>.csv and .meta.json),
 with frame times the test chooses, so every statistic has a known answer.
 
 Every CSV column of the schema is written: the ones a test sets, the
-configuration's columns, and the rest empty (float: not measured) or 0, so a
-column the schema gains later does not break these runs.
+configuration's columns, and the rest empty (float: not measured; the
+optional columns: not applicable, no counters) or 0, so a column the schema
+gains later does not break these runs. Counter columns are written where a
+test gives their values (write_run_dir's `counters`).
 """
 
 from __future__ import annotations
@@ -27,10 +29,15 @@ class SyntheticConfig:
     stage: str = "optimized"
     width: int = 96
     height: int = 72
+    accel: str = names.BRUTE_FORCE
+    traversal: str = ""
+    hybrid_threshold: int | None = None
 
     @property
     def id(self) -> str:
-        return f"{self.scene}-{self.renderer}-{self.stage}-t{self.threads}-l{self.lanes}-{self.width}x{self.height}"
+        accel = "".join(f"-{tag}" for tag in names.accel_tag(self.columns()))
+        size = f"{self.width}x{self.height}"
+        return f"{self.scene}-{self.renderer}-{self.stage}{accel}-t{self.threads}-l{self.lanes}-{size}"
 
     def columns(self) -> dict:
         stage = names.STAGES[self.stage]
@@ -46,7 +53,9 @@ class SyntheticConfig:
             names.PARTITION: "rows" if takes_threads else "",
             names.ALGORITHM: stage["algorithm"],
             names.EARLY_EXIT: exits,
-            names.ACCEL: names.BRUTE_FORCE,
+            names.ACCEL: self.accel,
+            names.TRAVERSAL: self.traversal,
+            names.HYBRID_THRESHOLD: "" if self.hybrid_threshold is None else self.hybrid_threshold,
             names.WIDTH: self.width,
             names.HEIGHT: self.height,
         }
@@ -65,8 +74,15 @@ class Environment:
 
 
 def csv_text(
-    run_id: str, config: SyntheticConfig, render_ms: list[float], warmup: int, device: str, present_ms: float = 0.0
+    run_id: str,
+    config: SyntheticConfig,
+    render_ms: list[float],
+    warmup: int,
+    device: str,
+    present_ms: float = 0.0,
+    counters: dict[str, list] | None = None,
 ) -> str:
+    """`counters`: counter column -> its value in each frame (none: the columns stay empty)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(names.CSV_COLUMNS)
@@ -81,9 +97,15 @@ def csv_text(
             "present_ms": repr(float(present_ms)),
             "present": "none",
             names.DEVICE: device,
+            **{column: frame_values[frame] for column, frame_values in (counters or {}).items()},
         }
-        writer.writerow([values.get(c, "" if names.COLUMN_TYPES[c] != "int" else 0) for c in names.CSV_COLUMNS])
+        writer.writerow([values.get(c, _unset(c)) for c in names.CSV_COLUMNS])
     return out.getvalue()
+
+
+def _unset(column: str):
+    """What a column the test does not set holds: empty, or 0 for an int column that must have a value."""
+    return 0 if names.COLUMN_TYPES[column] == "int" and column not in names.OPTIONAL_COLUMNS else ""
 
 
 def metadata(run_id: str, config: SyntheticConfig, warmup: int, measured: int, env: Environment) -> dict:
@@ -136,10 +158,12 @@ def write_run_dir(
     warmup: int = 1,
     env: Environment | None = None,
     present_ms: float = 0.0,
+    counters: dict[SyntheticConfig, dict[str, list]] | None = None,
 ) -> Path:
     """A run directory: for each configuration one run per list of render
     times (the first `warmup` of each are warm-up frames), every frame's
-    Present phase taking `present_ms`."""
+    Present phase taking `present_ms`; `counters`: for a configuration, each
+    counter column's value per frame (the same in every repetition)."""
     env = env or Environment()
     entries = []
     for config, repetitions in runs.items():
@@ -147,7 +171,8 @@ def write_run_dir(
             index = len(entries)
             run_id = f"20260101T00{index // 60:02d}{index % 60:02d}Z-{index:06x}"
             stem = f"{load.FRAMES_DIR}/{config.id}-r{rep}"
-            atomic.write_text(out / f"{stem}.csv", csv_text(run_id, config, times, warmup, env.device, present_ms))
+            text = csv_text(run_id, config, times, warmup, env.device, present_ms, (counters or {}).get(config))
+            atomic.write_text(out / f"{stem}.csv", text)
             atomic.write_json(
                 out / f"{stem}{load.META_SUFFIX}", metadata(run_id, config, warmup, len(times) - warmup, env)
             )

@@ -81,6 +81,8 @@ def _scaling_summary():
                 names.SPHERES: 3,
                 names.STAGE: "optimized",
                 names.ACCEL: names.BRUTE_FORCE,
+                names.TRAVERSAL: "",
+                names.HYBRID_THRESHOLD: None,
                 names.RENDERER: "tbb_only",
                 names.LANES: 1,
                 names.SIMD_TARGET: "",

@@ -277,7 +277,7 @@ def _spheres(config):
 
 def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow_cells_small():
     profile, configs = _expand("scene-size")
-    assert {_spheres(c) for c in configs} == {10, 100, 1000, 10000, 100000}
+    assert {_spheres(c) for c in configs} == {10, 100, 1000, 10000, 100000, 1000000}
     assert {c.variant.label for c in configs} == {"optimized"} and {(c.width, c.height) for c in configs} == {
         (800, 600)
     }
@@ -291,6 +291,12 @@ def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow
                 and renderer not in names.OWN_ACCEL
             ):
                 assert max(counts) <= 1000, f"scalar {renderer} stays at small N"
-    largest = [(c.renderer, c.accel) for c in configs if _spheres(c) == 100000]
-    assert sorted(largest) == [("embree", "bvh"), ("gpu", "bvh"), ("simd_tbb", "bvh")]
-    assert all(c.scene_path.startswith(str(profiles.GENERATED_SCENES)) for c in configs if _spheres(c) in (10, 100000))
+    for n in (100000, 1000000):
+        largest = [(c.renderer, c.accel, c.traversal) for c in configs if _spheres(c) == n]
+        every_traversal = [("simd_tbb", "bvh", t) for t in names.TRAVERSALS]
+        assert sorted(largest) == sorted([("embree", "bvh", ""), ("gpu", "bvh", ""), *every_traversal]), n
+    # The traversal axis: simd_tbb's BVH at every count, simd_only's in packets only.
+    for renderer, walks in (("simd_tbb", set(names.TRAVERSALS)), ("simd_only", {names.PACKET})):
+        assert {c.traversal for c in configs if c.renderer == renderer and c.accel == "bvh"} == walks
+    generated = (10, 100000, 1000000)
+    assert all(c.scene_path.startswith(str(profiles.GENERATED_SCENES)) for c in configs if _spheres(c) in generated)

@@ -68,6 +68,8 @@ def _frames(values_by_rep, warmup_value=100.0):
                     names.ALGORITHM: "single-pass",
                     names.EARLY_EXIT: "bounce",
                     names.ACCEL: "none",
+                    names.TRAVERSAL: "",
+                    names.HYBRID_THRESHOLD: None,
                     names.THREADS: 1,
                     names.LANES: 1,
                     names.SIMD_TARGET: "",
