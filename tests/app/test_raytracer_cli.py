@@ -249,10 +249,6 @@ def test_counters_is_recorded_in_the_config(raytracer, repo_root, tmp_path):
     assert schema.metadata_key_problems(meta) == []
 
 
-# RendererInfo::traversal is the SIMD kernel's to fill (render/renderer.h);
-# until its traversals are merged it reports none, and this fails strictly
-# once it does, so that the marker goes with it.
-@pytest.mark.xfail(strict=True, reason="the SIMD kernel does not report its traversal yet (RendererInfo::traversal)")
 def test_a_simd_bvh_run_records_the_packet_traversal(raytracer, repo_root, tmp_path):
     csv_path = tmp_path / "run.csv"
     done = run(raytracer, "--simd", "--accel", "bvh", repo_root / "scenes/random20.json", *SMALL, "--csv", csv_path)
@@ -260,4 +256,56 @@ def test_a_simd_bvh_run_records_the_packet_traversal(raytracer, repo_root, tmp_p
     rows = read_rows(csv_path)
     assert {r["traversal"] for r in rows} == {"packet"}
     assert {r["hybrid_threshold"] for r in rows} == {""}
+    assert {r["rays"] for r in rows} == {""}, "no counters without --counters"
     assert json.loads((tmp_path / "run.meta.json").read_text())["config"]["traversal"] == "packet"
+
+
+COUNTED = ["--width", "40", "--height", "24", "--warmup", "1", "--frames", "2", "--quiet", "--counters"]
+
+
+def counted_run(raytracer, scene, tmp_path, name, *flags):
+    out = tmp_path / name
+    out.mkdir()
+    args = ["--simd", "--accel", "bvh", *flags, scene, *COUNTED, "--csv", out / "run.csv"]
+    done = run(raytracer, *args, "--save-frame", f"2:{out / 'f.png'}")
+    assert done.returncode == 0, done.stderr
+    return read_rows(out / "run.csv"), json.loads((out / "run.meta.json").read_text()), (out / "f.png").read_bytes()
+
+
+# The three traversals trace the same rays to the same spheres (same image,
+# same rays per depth and shading), but walk the tree differently; each
+# frame's counters are self-consistent and the metadata sums the measured ones.
+def test_counters_of_the_three_traversals(raytracer, repo_root, tmp_path):
+    scene = repo_root / "scenes/random1000.json"
+    runs = {
+        name: counted_run(raytracer, scene, tmp_path, name, "--traversal", name)
+        for name in ("packet", "single", "hybrid")
+    }
+    images = {name: image for name, (_, _, image) in runs.items()}
+    assert images["single"] == images["packet"] and images["hybrid"] == images["packet"]
+    for name, (rows, meta, _) in runs.items():
+        for r in rows:
+            per_depth = [int(n) for n in r["rays_per_depth"].split("/")]
+            assert per_depth[0] == 40 * 24, "every pixel traces a primary ray"
+            assert sum(per_depth) == int(r["rays"])
+            assert per_depth == sorted(per_depth, reverse=True), "a bounce traces no more rays than the one before"
+            for kind in ("node", "sphere", "shade"):
+                assert 0 < int(r[f"{kind}_lanes_active"]) <= int(r[f"{kind}_lane_slots"]), (name, kind)
+        measured = [r for r in rows if r["warmup"] == "0"]
+        totals = meta["lane_counters"]
+        assert totals["rays"] == sum(int(r["rays"]) for r in measured)
+        assert totals["node_visits"] == sum(int(r["node_visits"]) for r in measured)
+        assert meta["config"]["counters"] is True and meta["config"]["traversal"] == name
+    packet, single, hybrid = (runs[n][0] for n in ("packet", "single", "hybrid"))
+    for a, b in ((packet, single), (packet, hybrid)):
+        for ra, rb in zip(a, b, strict=True):
+            for column in ("rays_per_depth", "shade_lane_slots", "shade_lanes_active"):
+                assert ra[column] == rb[column], column
+    lanes = int(packet[0]["lanes"])
+    assert {r["hybrid_threshold"] for r in hybrid} == {str(lanes - max(1, lanes // 8))}, "the default, made a number"
+    # One ray against a wide node's children fills more of the vector than a fanned-out packet.
+    occupancy = {
+        n: int(rs[0]["node_lanes_active"]) / int(rs[0]["node_lane_slots"])
+        for n, rs in (("packet", packet), ("single", single))
+    }
+    assert occupancy["single"] > occupancy["packet"]

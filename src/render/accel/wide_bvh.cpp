@@ -34,7 +34,6 @@ class Collapser {
   WideBvh collapse() && {
     wide_.nodes.emplace_back();
     fill(0, {0u}, 0);
-    pad();
     return std::move(wide_);
   }
 
@@ -68,57 +67,82 @@ class Collapser {
       *best = left;
       slots.insert(best + 1, left + 1);
     }
-    WideBvhNode node{};
-    for (auto& plane : node.bounds) plane.fill(kInf);
-    for (int a = 0; a < 3; ++a) node.bounds[WideBvhNode::kHiX + a].fill(-kInf);
-    node.child.fill(0);
-    node.leafCount.fill(0);
+    WideBvhNode node = emptyNode();
     node.childCount = static_cast<std::uint32_t>(slots.size());
     std::vector<std::pair<std::size_t, std::uint32_t>> inner;
     for (std::size_t k = 0; k < slots.size(); ++k) {
       const BvhNode& b = bvh_.nodes[slots[k]];
-      for (int a = 0; a < 3; ++a) {
-        node.bounds[WideBvhNode::kLoX + a][k] = b.lo[a];
-        node.bounds[WideBvhNode::kHiX + a][k] = b.hi[a];
-      }
+      setBox(node, k, b.lo, b.hi);
       if (opens(slots[k])) {
         inner.emplace_back(k, slots[k]);
       } else {
-        node.child[k] = addLeaf(subtrees_[slots[k]]);
-        node.leafCount[k] = subtrees_[slots[k]].count;
+        node.child[k] = spheresChild(subtrees_[slots[k]], b.lo, b.hi, depth + 1);
       }
     }
     for (const auto& [k, binary] : inner) {
-      node.child[k] = static_cast<std::uint32_t>(wide_.nodes.size());
+      node.child[k] = WideChild::inner(static_cast<std::uint32_t>(wide_.nodes.size()));
       wide_.nodes.emplace_back();
-      fill(node.child[k], {binary}, depth + 1);
+      fill(node.child[k].node(), {binary}, depth + 1);
     }
     wide_.nodes[wide] = node;
   }
 
-  std::uint32_t addLeaf(Subtree s) {
-    const auto first = static_cast<std::uint32_t>(wide_.index.size());
-    for (std::uint32_t k = s.first; k < s.first + s.count; ++k) {
-      const std::uint32_t i = bvh_.order[k];
-      const Sphere& sphere = spheres_[i];
-      wide_.centerX.push_back(sphere.position.x);
-      wide_.centerY.push_back(sphere.position.y);
-      wide_.centerZ.push_back(sphere.position.z);
-      wide_.radiusSquared.push_back(sphere.radius * sphere.radius);  // as the kernels' SphereArrays
-      wide_.index.push_back(static_cast<std::int32_t>(i));
+  static WideBvhNode emptyNode() {
+    WideBvhNode node{};
+    for (int a = 0; a < 3; ++a) {
+      node.bounds[WideBvhNode::kLoX + a].fill(kInf);
+      node.bounds[WideBvhNode::kHiX + a].fill(-kInf);
     }
-    return first;
+    return node;
   }
 
-  // Padding after the last leaf: spheres no ray hits (negative radius squared).
-  void pad() {
-    for (int k = 0; k < kWideBvhWidth; ++k) {
-      wide_.centerX.push_back(0.0f);
-      wide_.centerY.push_back(0.0f);
-      wide_.centerZ.push_back(0.0f);
-      wide_.radiusSquared.push_back(-1.0f);
-      wide_.index.push_back(-1);
+  static void setBox(WideBvhNode& node, std::size_t slot, const glm::vec3& lo, const glm::vec3& hi) {
+    for (int a = 0; a < 3; ++a) {
+      node.bounds[WideBvhNode::kLoX + a][slot] = lo[a];
+      node.bounds[WideBvhNode::kHiX + a][slot] = hi[a];
     }
+  }
+
+  // A range of Bvh::order under one box: one leaf, or, for a pile of more
+  // coincident spheres than a leaf holds, a node of leaves (and of such
+  // nodes) under the same box.
+  WideChild spheresChild(Subtree s, const glm::vec3& lo, const glm::vec3& hi, int depth) {
+    if (s.count <= kWideBvhWidth) return addLeaf(s);
+    wide_.depth = std::max(wide_.depth, depth);
+    const auto index = static_cast<std::uint32_t>(wide_.nodes.size());
+    wide_.nodes.emplace_back();
+    WideBvhNode node = emptyNode();
+    std::uint32_t part = kWideBvhWidth;  // full leaves, or full subtrees of them
+    while (part * kWideBvhWidth < s.count) part *= kWideBvhWidth;
+    for (std::uint32_t first = s.first; first < s.first + s.count; first += part) {
+      const std::uint32_t slot = node.childCount++;
+      setBox(node, slot, lo, hi);
+      node.child[slot] = spheresChild({first, std::min(part, s.first + s.count - first)}, lo, hi, depth + 1);
+    }
+    wide_.nodes[index] = node;
+    return WideChild::inner(index);
+  }
+
+  WideChild addLeaf(Subtree s) {
+    const auto block = static_cast<std::uint32_t>(wide_.leaves.size());
+    if (block > WideChild::kBlockMask) throw std::length_error("wide BVH: too many leaves");
+    LeafBlock leaf{};
+    leaf.radiusSquared.fill(-1.0f);
+    for (std::uint32_t k = 0; k < kWideBvhWidth; ++k) {
+      if (k >= s.count) {
+        wide_.index.push_back(-1);
+        continue;
+      }
+      const std::uint32_t i = bvh_.order[s.first + k];
+      const Sphere& sphere = spheres_[i];
+      leaf.centerX[k] = sphere.position.x;
+      leaf.centerY[k] = sphere.position.y;
+      leaf.centerZ[k] = sphere.position.z;
+      leaf.radiusSquared[k] = sphere.radius * sphere.radius;  // as the kernels' SphereArrays
+      wide_.index.push_back(static_cast<std::int32_t>(i));
+    }
+    wide_.leaves.push_back(leaf);
+    return WideChild::leafOf(block, s.count);
   }
 
   const Bvh& bvh_;

@@ -21,7 +21,9 @@ struct SingleRayX {
   VecF<WideTag> origin[3];
   VecF<WideTag> direction[3];
   VecF<WideTag> inverse[3];
-  VecF<WideTag> nearShift[3];  // the origin moved by the pad towards the near plane's side
+  // The origin moved by the pad away from the near (far) plane, times the
+  // inverse direction: a plane at p is entered at p inverse - shift.
+  VecF<WideTag> nearShift[3];
   VecF<WideTag> farShift[3];
   int nearPlane[3];
   int farPlane[3];
@@ -62,9 +64,11 @@ HWY_INLINE SingleRayX SingleRayOf(const PacketLanes& lanes, std::size_t lane) {
     r.origin[a] = hn::Set(dw, o);
     r.direction[a] = hn::Set(dw, lanes.direction[a][lane]);
     r.inverse[a] = hn::Set(dw, inv);
-    // (lo - pad - o) inv = (lo - (o + pad)) inv up the axis; down it, hi + pad is met first.
-    r.nearShift[a] = hn::Set(dw, up ? o + r.pad : o - r.pad);
-    r.farShift[a] = hn::Set(dw, up ? o - r.pad : o + r.pad);
+    // (lo - pad - o) inv = lo inv - (o + pad) inv up the axis; down it, hi + pad is met first.
+    // The fused form rounds differently from the packet's (lo - pad - o) inv by
+    // about 1e-7 of (|o| + |lo|) |inv|, far inside the pad's 1e-5 of that scale.
+    r.nearShift[a] = hn::Set(dw, (up ? o + r.pad : o - r.pad) * inv);
+    r.farShift[a] = hn::Set(dw, (up ? o - r.pad : o + r.pad) * inv);
     r.nearPlane[a] = up ? WideBvhNode::kLoX + a : WideBvhNode::kHiX + a;
     r.farPlane[a] = up ? WideBvhNode::kHiX + a : WideBvhNode::kLoX + a;
   }
@@ -82,7 +86,7 @@ HWY_INLINE std::uint32_t WideNodeHits(const WideBvhNode& node, const SingleRayX&
   std::uint32_t bits = 0;
   for (std::size_t c = 0; c < WideBvhNode::kWidth; c += n) {
     const auto plane = [&](int p, int a, const VecF<WideTag>* shift) {
-      return (hn::Load(dw, node.bounds[static_cast<std::size_t>(p)].data() + c) - shift[a]) * r.inverse[a];
+      return hn::MulSub(hn::Load(dw, node.bounds[static_cast<std::size_t>(p)].data() + c), r.inverse[a], shift[a]);
     };
     const VecF<WideTag> enter =
         hn::Max(hn::Max(plane(r.nearPlane[0], 0, r.nearShift), plane(r.nearPlane[1], 1, r.nearShift)),
@@ -99,25 +103,26 @@ HWY_INLINE std::uint32_t WideNodeHits(const WideBvhNode& node, const SingleRayX&
 // The leaf's spheres against one ray, a vector of them at a time; the
 // nearest hit, lower index on a tie, becomes the best.
 template <bool kCount>
-HWY_INLINE void LeafNearest(const WideBvh& w, std::uint32_t first, std::uint32_t count, const SingleRayX& r,
-                            float& bestT, std::int32_t& bestIndex, Tally<kCount> tally) {
+HWY_INLINE void LeafNearest(const WideBvh& w, WideChild leaf, const SingleRayX& r, float& bestT,
+                            std::int32_t& bestIndex, Tally<kCount> tally) {
   const WideTag dw;
   const std::size_t n = hn::Lanes(dw);
   const VecF<WideTag> eps = hn::Set(dw, kEpsilon);
+  const LeafBlock& block = w.leaves[leaf.block()];
+  const std::size_t count = leaf.count();
   for (std::size_t c = 0; c < count; c += n) {
-    const std::size_t at = first + c;
-    if constexpr (kCount) tally.Spheres(1, n, std::min<std::size_t>(n, count - c));
+    if constexpr (kCount) tally.Spheres(1, n, std::min(n, count - c));
     // intersectSphere, lane for lane as IntersectSphere computes it with the spheres' values broadcast.
-    const VecF<WideTag> ocx = r.origin[0] - hn::LoadU(dw, w.centerX.data() + at);
-    const VecF<WideTag> ocy = r.origin[1] - hn::LoadU(dw, w.centerY.data() + at);
-    const VecF<WideTag> ocz = r.origin[2] - hn::LoadU(dw, w.centerZ.data() + at);
+    const VecF<WideTag> ocx = r.origin[0] - hn::Load(dw, block.centerX.data() + c);
+    const VecF<WideTag> ocy = r.origin[1] - hn::Load(dw, block.centerY.data() + c);
+    const VecF<WideTag> ocz = r.origin[2] - hn::Load(dw, block.centerZ.data() + c);
     const VecF<WideTag> b = hn::MulAdd(ocz, r.direction[2], hn::MulAdd(ocy, r.direction[1], ocx * r.direction[0]));
     const VecF<WideTag> fx = hn::NegMulAdd(b, r.direction[0], ocx);
     const VecF<WideTag> fy = hn::NegMulAdd(b, r.direction[1], ocy);
     const VecF<WideTag> fz = hn::NegMulAdd(b, r.direction[2], ocz);
     const VecF<WideTag> disc =
-        hn::LoadU(dw, w.radiusSquared.data() + at) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
-    const MaskF<WideTag> real = hn::And(hn::FirstN(dw, count - c), disc >= hn::Zero(dw));
+        hn::Load(dw, block.radiusSquared.data() + c) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
+    const MaskF<WideTag> real = disc >= hn::Zero(dw);  // never in unused slots (radius squared -1)
     if (hn::AllFalse(dw, real)) continue;
     const VecF<WideTag> h = hn::Sqrt(disc);
     const VecF<WideTag> minusB = hn::Zero(dw) - b;
@@ -129,7 +134,7 @@ HWY_INLINE void LeafNearest(const WideBvh& w, std::uint32_t first, std::uint32_t
     hn::Store(t, dw, ts);
     for (; hits != 0; hits &= hits - 1) {
       const auto j = static_cast<std::size_t>(std::countr_zero(hits));
-      const std::int32_t index = w.index[at + j];
+      const std::int32_t index = w.index[leaf.block() * std::size_t{kWideBvhWidth} + c + j];
       if (ts[j] < bestT || (ts[j] == bestT && index < bestIndex)) {
         bestT = ts[j];
         bestIndex = index;
@@ -138,16 +143,18 @@ HWY_INLINE void LeafNearest(const WideBvh& w, std::uint32_t first, std::uint32_t
   }
 }
 
-// Where a walk goes next: a wide node (leafCount 0) or a leaf, and the
+// Where a walk goes next: a wide node or a leaf, and the
 // distance at which the ray (the nearest of the packet's lanes) enters its box.
 struct WideEntry {
-  std::uint32_t child;
-  std::uint32_t leafCount;
+  WideChild child;
   float entry;
 };
 
+// Levels of the wide tree at most: never more than the binary tree's, and
+// a pile of coincident spheres adds a node of leaves per factor of 8.
+inline constexpr int kWideMaxDepth = kBvhMaxDepth + 12;
 // At most kWidth - 1 siblings wait per level, one level per node on the path.
-inline constexpr int kWideStackSize = (kWideBvhWidth - 1) * (kBvhMaxDepth + 1) + 1;
+inline constexpr int kWideStackSize = (kWideBvhWidth - 1) * (kWideMaxDepth + 1) + 1;
 
 // One ray from `start` down: a node's hit children are ordered by entry
 // distance with the nearest visited next (one hit: nothing is pushed), and
@@ -159,22 +166,22 @@ HWY_NOINLINE void WalkSingle(const WideBvh& w, WideEntry start, const SingleRayX
   int top = 0;
   WideEntry current = start;
   for (;;) {
-    if (current.leafCount == 0) {
-      const WideBvhNode& node = w.nodes[current.child];
+    if (!current.child.leaf()) {
+      const WideBvhNode& node = w.nodes[current.child.node()];
       HWY_ALIGN float entry[WideBvhNode::kWidth];
       std::uint32_t hits = WideNodeHits(node, r, bestT, entry);
       if constexpr (kCount) tally.Nodes(1, WideBvhNode::kWidth, node.childCount);
       if (hits != 0) {
         if ((hits & (hits - 1)) == 0) {
           const auto j = static_cast<std::size_t>(std::countr_zero(hits));
-          current = {node.child[j], node.leafCount[j], entry[j]};
+          current = {node.child[j], entry[j]};
           continue;
         }
         // Onto the stack in order, the farthest deepest; the nearest comes straight off again.
         WideEntry* const first = stack + top;
         for (; hits != 0; hits &= hits - 1) {
           const auto j = static_cast<std::size_t>(std::countr_zero(hits));
-          const WideEntry e{node.child[j], node.leafCount[j], entry[j]};
+          const WideEntry e{node.child[j], entry[j]};
           WideEntry* k = stack + top++;
           for (; k > first && (k - 1)->entry < e.entry; --k) *k = *(k - 1);
           *k = e;
@@ -183,7 +190,7 @@ HWY_NOINLINE void WalkSingle(const WideBvh& w, WideEntry start, const SingleRayX
         continue;
       }
     } else {
-      LeafNearest(w, current.child, current.leafCount, r, bestT, bestIndex, tally);
+      LeafNearest(w, current.child, r, bestT, bestIndex, tally);
     }
     do {
       if (top == 0) return;
@@ -205,7 +212,8 @@ HWY_INLINE RaycastHitX<D> NearestHitSingle(D d, const SphereArrays& s, const Ray
   hn::Store(hn::Set(di, -1), di, bestIndex);
   for (std::uint32_t bits = LaneBits(d, active); bits != 0; bits &= bits - 1) {
     const auto lane = static_cast<std::size_t>(std::countr_zero(bits));
-    WalkSingle(*s.wide, WideEntry{0, 0, 0.0f}, SingleRayOf(lanes, lane), bestT[lane], bestIndex[lane], tally);
+    WalkSingle(*s.wide, WideEntry{WideChild::inner(0), 0.0f}, SingleRayOf(lanes, lane), bestT[lane], bestIndex[lane],
+               tally);
   }
   return HitRecord(d, s, ray, hn::Load(d, bestT), hn::ConvertTo(d, hn::Load(di, bestIndex)));
 }
@@ -227,9 +235,9 @@ HWY_INLINE RaycastHitX<D> NearestHitHybrid(D d, const SphereArrays& s, const Ray
     WideEntry to;
     std::uint32_t lanes;  // those that reached its box
   };
-  PacketEntry stack[WideBvhNode::kWidth * (kBvhMaxDepth + 1) + 1];
+  PacketEntry stack[WideBvhNode::kWidth * (kWideMaxDepth + 1) + 1];
   int top = 0;
-  stack[top++] = {{0, 0, 0.0f}, LaneBits(d, active)};
+  stack[top++] = {{WideChild::inner(0), 0.0f}, LaneBits(d, active)};
   while (top > 0) {
     const PacketEntry e = stack[--top];
     if (std::popcount(e.lanes) <= threshold) {
@@ -248,19 +256,19 @@ HWY_INLINE RaycastHitX<D> NearestHitHybrid(D d, const SphereArrays& s, const Ray
       continue;
     }
     const MaskF<D> reaching = MaskOfBits(d, e.lanes);
-    if (e.to.leafCount != 0) {
-      const std::uint32_t end = e.to.child + e.to.leafCount;
-      if constexpr (kCount) {
-        tally.Spheres(e.to.leafCount, e.to.leafCount * hn::Lanes(d), e.to.leafCount * std::popcount(e.lanes));
-      }
-      for (std::uint32_t k = e.to.child; k < end; ++k) {
-        IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, w.centerX[k], w.centerY[k], w.centerZ[k],
-                                                              w.radiusSquared[k], static_cast<float>(w.index[k]), ray,
+    if (e.to.child.leaf()) {
+      const LeafBlock& block = w.leaves[e.to.child.block()];
+      const std::uint32_t count = e.to.child.count();
+      if constexpr (kCount) tally.Spheres(count, count * hn::Lanes(d), count * std::popcount(e.lanes));
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const std::int32_t index = w.index[e.to.child.block() * std::size_t{kWideBvhWidth} + k];
+        IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, block.centerX[k], block.centerY[k], block.centerZ[k],
+                                                              block.radiusSquared[k], static_cast<float>(index), ray,
                                                               reaching, bestT, bestIndex);
       }
       continue;
     }
-    const WideBvhNode& node = w.nodes[e.to.child];
+    const WideBvhNode& node = w.nodes[e.to.child.node()];
     PacketEntry near[WideBvhNode::kWidth];
     int n = 0;
     for (std::size_t j = 0; j < node.childCount; ++j) {
@@ -274,7 +282,7 @@ HWY_INLINE RaycastHitX<D> NearestHitHybrid(D d, const SphereArrays& s, const Ray
       if (hn::AllFalse(d, reach)) continue;
       const float nearest = hn::GetLane(
           hn::MinOfLanes(d, hn::IfThenElse(reach, entry, hn::Set(d, std::numeric_limits<float>::infinity()))));
-      PacketEntry p{{node.child[j], node.leafCount[j], nearest}, LaneBits(d, reach)};
+      PacketEntry p{{node.child[j], nearest}, LaneBits(d, reach)};
       int k = n++;
       for (; k > 0 && near[k - 1].to.entry < p.to.entry; --k) near[k] = near[k - 1];  // farthest first
       near[k] = p;
