@@ -17,6 +17,7 @@
 #define RT_RENDER_SIMD_PACKET_KERNEL_INL_H_
 #endif
 
+#include <hwy/cache_control.h>
 #include <hwy/contrib/math/math-inl.h>
 #include <hwy/highway.h>
 

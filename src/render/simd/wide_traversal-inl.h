@@ -156,6 +156,18 @@ inline constexpr int kWideMaxDepth = kBvhMaxDepth + 12;
 // At most kWidth - 1 siblings wait per level, one level per node on the path.
 inline constexpr int kWideStackSize = (kWideBvhWidth - 1) * (kWideMaxDepth + 1) + 1;
 
+// Starts loading a node's boxes (or a leaf's spheres) into the cache.
+HWY_INLINE void Prefetch(const WideBvh& w, WideChild child) {
+  const char* at = child.leaf() ? reinterpret_cast<const char*>(&w.leaves[child.block()])
+                                : reinterpret_cast<const char*>(&w.nodes[child.node()]);
+  hwy::Prefetch(at);
+  hwy::Prefetch(at + 64);
+  if (!child.leaf()) {
+    hwy::Prefetch(at + 128);
+    hwy::Prefetch(at + 192);
+  }
+}
+
 // One ray from `start` down: a node's hit children are ordered by entry
 // distance with the nearest visited next (one hit: nothing is pushed), and
 // a waiting child is dropped once the ray's best hit is nearer than its box.
@@ -182,6 +194,7 @@ HWY_NOINLINE void WalkSingle(const WideBvh& w, WideEntry start, const SingleRayX
         for (; hits != 0; hits &= hits - 1) {
           const auto j = static_cast<std::size_t>(std::countr_zero(hits));
           const WideEntry e{node.child[j], entry[j]};
+          Prefetch(w, e.child);  // waiting on the stack, it arrives meanwhile
           WideEntry* k = stack + top++;
           for (; k > first && (k - 1)->entry < e.entry; --k) *k = *(k - 1);
           *k = e;
