@@ -30,6 +30,7 @@ from rtbench import report_writer
 REFERENCES = [
     ("report/gpu-machine", "data/reference-runs/gpu-machine.tar.xz"),
     ("report/gpu-machine-scene-size", "data/reference-runs/gpu-machine-scene-size.tar.xz"),
+    ("report/two-core-counters", "data/reference-runs/two-core-counters.tar.xz"),
     ("report", None),  # the 2-core machine's paper run: its run directory was not kept
 ]
 # The matplotlib that drew the committed figures (Debian 12's).
