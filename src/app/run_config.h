@@ -44,7 +44,8 @@ struct RunConfig {
   [[nodiscard]] bool untilClosed() const { return windowed() && measuredFrames == 0; }
 };
 
-// Where the metadata sidecar goes: --meta, else beside the CSV as NAME.meta.json.
+// Where the metadata sidecar goes: --meta, else beside the CSV as NAME.meta.json
+// (none where the CSV goes to a device or FIFO, such as /dev/null).
 std::optional<std::filesystem::path> metadataPathFor(const RunConfig& config);
 
 }  // namespace rt

@@ -86,9 +86,31 @@ void writeAndFlush(const std::filesystem::path& target, Descriptor& fd, std::str
   if (::fsync(fd.get()) != 0) failWithErrno(target, "cannot flush to disk", errno);
 }
 
+// A target that exists and is neither a regular file nor a directory (a
+// device such as /dev/null, a FIFO): written in place. Renaming over it
+// would replace the device node with a file (as root, /dev/null itself),
+// and there is no half-written state of a stream to avoid.
+bool isSpecialFile(const std::filesystem::path& target) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(target, ec);
+  return !ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) &&
+         !std::filesystem::is_directory(status);
+}
+
+void writeInPlace(const std::filesystem::path& target, std::string_view contents) {
+  Descriptor fd(::open(target.c_str(), O_WRONLY | O_CLOEXEC));
+  if (fd.get() < 0) failWithErrno(target, "cannot open for writing", errno);
+  writeAll(target, fd.get(), contents);
+  if (fd.close() != 0) failWithErrno(target, "cannot close", errno);
+}
+
 }  // namespace
 
 void writeFileAtomically(const std::filesystem::path& target, std::string_view contents) {
+  if (isSpecialFile(target)) {
+    writeInPlace(target, contents);
+    return;
+  }
   AtomicFile file(target);
   Descriptor unnamed(openUnnamed(target.parent_path()));
   if (unnamed.get() >= 0) {

@@ -4,6 +4,7 @@ import csv
 import hashlib
 import json
 import os
+import stat
 import subprocess
 
 import pytest
@@ -309,3 +310,22 @@ def test_counters_of_the_three_traversals(raytracer, repo_root, tmp_path):
         for n, rs in (("packet", packet), ("single", single))
     }
     assert occupancy["single"] > occupancy["packet"]
+
+
+# --csv to a special file (here a FIFO, as /dev/null is a device) streams the
+# CSV into it: the file stays what it was (renaming over /dev/null as root
+# once replaced the device with a file) and no sidecar lands beside it.
+def test_csv_into_a_fifo_is_streamed_not_replaced(raytracer, repo_root, tmp_path):
+    fifo = tmp_path / "frames.csv"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)  # lets the raytracer open it without blocking
+    try:
+        done = run(raytracer, "--sequential", repo_root / "scenes/random20.json", *SMALL, "--csv", fifo)
+        text = os.read(reader, 1 << 16).decode()
+    finally:
+        os.close(reader)
+    assert done.returncode == 0, done.stderr
+    assert stat.S_ISFIFO(fifo.stat().st_mode), "the FIFO was replaced by a file"
+    assert text.splitlines()[0].startswith("run_id,"), text[:80]
+    assert len(text.splitlines()) == 1 + 5, "header and the 2 + 3 frames"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frames.csv"], "no sidecar, no temporary"

@@ -1,6 +1,9 @@
 #include "core/atomic_file.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -50,6 +53,23 @@ TEST_F(AtomicFileTest, ReplacesAnExistingFile) {
   writeFileAtomically(target, "old contents that are longer\n");
   writeFileAtomically(target, "new\n");
   EXPECT_EQ(read(target), "new\n");
+}
+
+// A FIFO (like /dev/null, a special file) is written in place: renaming
+// over it would put a regular file where the device node was, which as
+// root (CI in a container) turned /dev/null itself into a file.
+TEST_F(AtomicFileTest, WritesIntoASpecialFileInsteadOfReplacingIt) {
+  const fs::path fifo = dir_ / "stream";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);  // lets the writer open without blocking
+  ASSERT_GE(reader, 0);
+  writeFileAtomically(fifo, "a,b\n1,2\n");
+  char buffer[64] = {};
+  const ssize_t n = ::read(reader, buffer, sizeof buffer);
+  ::close(reader);
+  EXPECT_EQ(std::string(buffer, n > 0 ? static_cast<std::size_t>(n) : 0u), "a,b\n1,2\n");
+  EXPECT_TRUE(fs::is_fifo(fifo)) << "the FIFO was replaced";
+  EXPECT_EQ(entries(), 1u) << "no temporary left beside it";
 }
 
 // Destroyed without commit() (an exception on the way): the previous file
