@@ -103,24 +103,35 @@ def unit_graph(graph: dict[Path, list[Path]]) -> dict[Path, list[Path]]:
     """The include graph between units, a header and its source file taken
     as one (src/gpu/vulkan/context.h and .cpp are the unit .../context): a
     .cpp including a header whose own header includes the .cpp's is a cycle
-    too, one that no single header shows. A -inl.h file is a fragment of the
-    one file that includes it (Highway's per-target scheme: the .cc includes
-    it once per target), so it belongs to that file's unit."""
+    too, one that no single header shows. A -inl.h file is a fragment of each
+    file that includes it (Highway's per-target scheme: a .cc includes it once
+    per target; the packet kernels' two halves include the same one), so its
+    includes count as that file's own, and it is no unit of its own."""
     includers: dict[Path, list[Path]] = {}
     for source, targets in graph.items():
         for target in targets:
             includers.setdefault(target, []).append(source)
 
-    def unit_of(path: Path, seen: frozenset[Path] = frozenset()) -> Path:
-        owners = includers.get(path, [])
-        if path.name.endswith("-inl.h") and len(owners) == 1 and path not in seen:
-            return unit_of(owners[0], seen | {path})
-        return path.with_suffix("")
+    def fragment(path: Path) -> bool:
+        return path.name.endswith("-inl.h") and bool(includers.get(path))
+
+    def inlined(targets: list[Path], seen: frozenset[Path]) -> list[Path]:
+        out: list[Path] = []
+        for target in targets:
+            if fragment(target) and target not in seen:
+                out += inlined(graph.get(target, []), seen | {target})
+            elif not fragment(target):
+                out.append(target)
+        return out
 
     units: dict[Path, set[Path]] = {}
     for source, targets in graph.items():
-        unit = unit_of(source)
-        units.setdefault(unit, set()).update(unit_of(t) for t in targets if unit_of(t) != unit)
+        if fragment(source):
+            continue
+        unit = source.with_suffix("")
+        units.setdefault(unit, set()).update(
+            t.with_suffix("") for t in inlined(targets, frozenset()) if t.with_suffix("") != unit
+        )
     return {unit: sorted(targets) for unit, targets in units.items()}
 
 
@@ -230,6 +241,25 @@ def test_a_fragment_belongs_to_the_file_that_includes_it(tmp_path):
     )
     units = unit_graph(include_graph(root))
     assert {u.name: [t.name for t in targets] for u, targets in units.items()} == {"k": ["a"], "a": []}
+
+
+def test_a_fragment_of_two_files_belongs_to_each(tmp_path):
+    # The packet kernels' two halves include one fragment, which includes the
+    # header of the first: no cycle; a fragment including the second half's
+    # header through the first's would be one.
+    files = {
+        "src/render/k.h": "#pragma once\n",
+        "src/render/k.cc": '#include "render/k-inl.h"\n#include "render/k.h"\n',
+        "src/render/k_counted.cc": '#include "render/k-inl.h"\n#include "render/k.h"\n',
+        "src/render/k-inl.h": '#include "render/k.h"\n',
+    }
+    units = unit_graph(include_graph(write_tree(tmp_path / "ok", files)))
+    assert {u.name: [t.name for t in targets] for u, targets in units.items()} == {"k": [], "k_counted": ["k"]}
+    files["src/render/k.h"] = '#pragma once\n#include "render/j.h"\n'
+    files["src/render/j.h"] = "#pragma once\n"
+    files["src/render/j.cpp"] = '#include "render/j.h"\n#include "render/k-inl.h"\n'
+    cyclic = unit_graph(include_graph(write_tree(tmp_path / "cycle", files)))
+    assert [[p.name for p in cycle] for cycle in include_cycles(cyclic)] == [["j", "k", "j"]]
 
 
 def test_the_checker_finds_a_cycle_through_a_source_file(tmp_path):

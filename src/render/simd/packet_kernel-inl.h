@@ -426,17 +426,46 @@ void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> sc
   }
 }
 
-template <class D, unsigned... kVariants>
-LaneKernels MakeLaneKernels(D d, std::integer_sequence<unsigned, kVariants...>) {
-  return LaneKernels{static_cast<int>(hn::Lanes(d)), {&RenderSpan<D, kVariants>...}};
+// The variants kFirst, kFirst + 1, ... of one packet width; the others stay null.
+template <unsigned kFirst, class D, unsigned... kOffsets>
+LaneKernels MakeLaneKernels(D d, std::integer_sequence<unsigned, kOffsets...>) {
+  LaneKernels kernels{static_cast<int>(hn::Lanes(d)), {}};
+  ((kernels.variants[kFirst + kOffsets] = &RenderSpan<D, kFirst + kOffsets>), ...);
+  return kernels;
 }
 
+// Half of the variants: those without counters, or those with them. Each
+// half is compiled in a translation unit of its own (packet_kernels.cc,
+// packet_kernels_counted.cc), so that the two compile side by side.
+inline constexpr unsigned kHalfVariants = KernelVariant::kCount / 2;
+static_assert(KernelVariant::fromIndex(kHalfVariants).counters && !KernelVariant::fromIndex(kHalfVariants - 1).counters,
+              "the counting variants are the upper half");
+
 // The kernels for packets of exactly kLanes floats, if this target has them.
-template <std::size_t kLanes>
+template <unsigned kFirst, std::size_t kLanes>
 LaneKernels CappedKernels() {
   const hn::CappedTag<float, kLanes> d;
   if (hn::Lanes(d) != kLanes) return {};
-  return MakeLaneKernels(d, std::make_integer_sequence<unsigned, KernelVariant::kCount>());
+  return MakeLaneKernels<kFirst>(d, std::make_integer_sequence<unsigned, kHalfVariants>());
+}
+
+template <unsigned kFirst, std::size_t... kIndex>
+std::array<LaneKernels, sizeof...(kIndex)> AllCappedKernels(std::index_sequence<kIndex...>) {
+  return {CappedKernels<kFirst, static_cast<std::size_t>(schema::kLaneWidths[kIndex])>()...};
+}
+
+// What this target offers, for one half of the variants: the native width
+// and each of the schema's lane widths. Returned by value through dispatch,
+// so callers keep this target's function pointers and never dispatch per row.
+template <unsigned kFirst>
+TargetKernels HalfOfTargetKernels() {
+  const hn::ScalableTag<float> d;
+  TargetKernels kernels;
+  kernels.target = HWY_TARGET;
+  kernels.nativeLanes = static_cast<int>(hn::Lanes(d));
+  kernels.native = MakeLaneKernels<kFirst>(d, std::make_integer_sequence<unsigned, kHalfVariants>());
+  kernels.capped = AllCappedKernels<kFirst>(std::make_index_sequence<schema::kLaneWidths.size()>());
+  return kernels;
 }
 
 }  // namespace rt::simd::HWY_NAMESPACE

@@ -8,11 +8,7 @@
 // so neither the target list nor foreach_target.h concern it.
 #include "render/simd/packet_kernels.h"
 
-// Scalable vectors (SVE, RVV) are sizeless types that cannot be members of
-// the packet structs (Vec3x, RayX); Arm machines with SVE run NEON instead.
-#ifndef HWY_DISABLED_TARGETS
-#define HWY_DISABLED_TARGETS (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128 | HWY_RVV)
-#endif
+#include "render/simd/kernel_targets.h"
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/simd/packet_kernels.cc"
@@ -24,23 +20,8 @@
 HWY_BEFORE_NAMESPACE();
 namespace rt::simd::HWY_NAMESPACE {
 
-template <std::size_t... kIndex>
-std::array<LaneKernels, sizeof...(kIndex)> AllCappedKernels(std::index_sequence<kIndex...>) {
-  return {CappedKernels<static_cast<std::size_t>(schema::kLaneWidths[kIndex])>()...};
-}
-
-// What this target offers: the native width and each of the schema's lane
-// widths. Returned by value through dispatch, so callers keep this target's
-// function pointers and never dispatch per row.
-TargetKernels GetTargetKernels() {
-  const hn::ScalableTag<float> d;
-  TargetKernels kernels;
-  kernels.target = HWY_TARGET;
-  kernels.nativeLanes = static_cast<int>(hn::Lanes(d));
-  kernels.native = MakeLaneKernels(d, std::make_integer_sequence<unsigned, KernelVariant::kCount>());
-  kernels.capped = AllCappedKernels(std::make_index_sequence<schema::kLaneWidths.size()>());
-  return kernels;
-}
+// The variants without counters; packet_kernels_counted.cc has the others.
+TargetKernels GetTargetKernels() { return HalfOfTargetKernels<0>(); }
 
 }  // namespace rt::simd::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -50,7 +31,20 @@ namespace rt::simd {
 
 HWY_EXPORT(GetTargetKernels);
 
-TargetKernels dispatchedKernels() { return HWY_DYNAMIC_DISPATCH(GetTargetKernels)(); }
+// Both halves come from the same target: dispatch picks the best one this
+// CPU supports (or a test's forced one) the same way in both files.
+TargetKernels dispatchedKernels() {
+  TargetKernels kernels = HWY_DYNAMIC_DISPATCH(GetTargetKernels)();
+  const TargetKernels counted = dispatchedCountedKernels();
+  const auto merge = [](LaneKernels& into, const LaneKernels& from) {
+    for (unsigned i = 0; i < KernelVariant::kCount; ++i) {
+      if (from.variants[i] != nullptr) into.variants[i] = from.variants[i];
+    }
+  };
+  merge(kernels.native, counted.native);
+  for (std::size_t i = 0; i < kernels.capped.size(); ++i) merge(kernels.capped[i], counted.capped[i]);
+  return kernels;
+}
 
 std::string targetName(std::int64_t target) { return hwy::TargetName(target); }
 

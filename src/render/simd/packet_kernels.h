@@ -92,6 +92,9 @@ inline std::size_t scratchFloats(int lanes, int maxDepth) {
 // The kernels of the best target the CPU supports (or the one a test forced).
 TargetKernels dispatchedKernels();
 
+// The counting half of them (packet_kernels_counted.cc), which dispatchedKernels() merges in.
+TargetKernels dispatchedCountedKernels();
+
 // Highway's name of a target bit ("AVX3", "SSE4", ...).
 std::string targetName(std::int64_t target);
 
