@@ -49,7 +49,7 @@ struct alignas(64) WideBvhNode {
   std::array<WideChild, kWidth> child;
   std::uint32_t childCount = 0;  // slots 0 .. childCount-1 are used
 };
-static_assert(sizeof(WideBvhNode) == 256);
+static_assert(kWideBvhWidth != 8 || sizeof(WideBvhNode) == 256);
 
 // A leaf's spheres as the kernels test them, two cache lines: centre and
 // float radius squared per slot. Unused slots have radius squared -1, which
@@ -57,7 +57,7 @@ static_assert(sizeof(WideBvhNode) == 256);
 struct alignas(64) LeafBlock {
   std::array<float, kWideBvhWidth> centerX, centerY, centerZ, radiusSquared;
 };
-static_assert(sizeof(LeafBlock) == 128);
+static_assert(kWideBvhWidth != 8 || sizeof(LeafBlock) == 128);
 
 struct WideBvh {
   std::vector<WideBvhNode> nodes;  // nodes[0] is the root (always an inner node)
