@@ -121,9 +121,14 @@ class CountingRenderer final : public Renderer {
   mutable int asked_ = 0;
 };
 
-TEST(FrameLoop, RecordsEachFramesCountersWithCounters) {
+RunConfig countingRun() {
   RunConfig config = smallRun();
   config.options.counters = true;
+  return config;
+}
+
+TEST(FrameLoop, RecordsEachFramesCountersWithCounters) {
+  const RunConfig config = countingRun();
   const Scene scene = loadScene(config.scenePath);
   CountingRenderer renderer;
   const FrameLoopResult r = prepareAndRun(renderer, scene, config);
@@ -149,8 +154,7 @@ TEST(FrameLoop, RecordsNoCountersWithoutCounters) {
 // The counting run's outputs: the CSV rows carry each frame's counters and
 // the renderer's traversal, the metadata the measured frames' totals.
 TEST(FrameLoop, CountersAndTraversalReachTheCsvAndTheMetadata) {
-  RunConfig config = smallRun();
-  config.options.counters = true;
+  const RunConfig config = countingRun();
   const Scene scene = loadScene(config.scenePath);
   CountingRenderer renderer;
   const FrameLoopResult r = prepareAndRun(renderer, scene, config);

@@ -46,8 +46,7 @@ void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int s
                                 ? defaultHybridThreshold(kernels_.lanes)
                                 : options.hybridThreshold;
   prepareScratch(scene.render.maxDepth, slots);
-  counting_ = options.counters;
-  counters_.assign(counting_ ? static_cast<std::size_t>(std::max(slots, 1)) : 0u, LaneCounters{});
+  counters_.assign(options.counters ? static_cast<std::size_t>(std::max(slots, 1)) : 0u, LaneCounters{});
   params_.shading = shadingParamsOf(scene);
   kernel_ = kernels_.variants[KernelVariant::of(options).index()];
 }
@@ -73,7 +72,7 @@ std::optional<int> SimdKernel::hybridThreshold() const {
 }
 
 std::optional<LaneCounters> SimdKernel::counters() const {
-  if (!counting_) return std::nullopt;
+  if (!counting()) return std::nullopt;
   LaneCounters sum;
   for (const LaneCounters& c : counters_) sum += c;
   return sum;

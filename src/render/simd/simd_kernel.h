@@ -51,7 +51,7 @@ class SimdKernel {
   void beginFrame(const CameraFrame& camera, Image& frame);
   // Pixels x0..x1-1 of row y; `slot` (the worker's index) picks its scratch.
   void renderSpan(int slot, int y, int x0, int x1) {
-    kernel_(params_, y, x0, x1, scratchOf(slot), counting_ ? &counters_[static_cast<std::size_t>(slot)] : nullptr);
+    kernel_(params_, y, x0, x1, scratchOf(slot), counting() ? &counters_[static_cast<std::size_t>(slot)] : nullptr);
   }
 
   // Traversal hybrid's threshold without --hybrid-threshold, for `lanes`-wide packets.
@@ -77,9 +77,9 @@ class SimdKernel {
   AccelStructure accel_;
   std::optional<WideBvh> wide_;         // --traversal single or hybrid
   std::optional<Traversal> traversal_;  // with accel bvh
-  bool counting_ = false;
-  std::vector<LaneCounters> counters_;  // --counters: one tally per thread slot
-  std::vector<CacheLine> scratch_;      // one slot per thread for the two-pass forward pass
+  std::vector<LaneCounters> counters_;  // --counters: one tally per thread slot; empty without
+  [[nodiscard]] bool counting() const { return !counters_.empty(); }
+  std::vector<CacheLine> scratch_;  // one slot per thread for the two-pass forward pass
   std::size_t scratchLinesPerSlot_ = 0;
 };
 static_assert(CpuKernel<SimdKernel>);

@@ -1,9 +1,10 @@
 // The spatial query of the SIMD kernel: per lane, the nearest sphere the
 // ray hits (docs/render-model.md section 3). Brute force: every packet is
 // tested against every sphere; with a BVH (--accel bvh) only the spheres
-// whose boxes some lane reaches. This is the one place the packet kernels
-// ask which sphere a ray meets; which of the two is a template parameter,
-// chosen once in prepare(). The names are the scalar kernel's
+// whose boxes the ray reaches, the tree walked as --traversal says: by the
+// packet, by each ray alone (wide_traversal-inl.h), or both in turn. This is
+// the one place the packet kernels ask which sphere a ray meets; which way
+// is a template parameter (Search), chosen once in prepare(). The names are the scalar kernel's
 // (scalar/sphere_query.h) in Highway's case (docs/render-model.md section 9).
 //
 // A fragment, not a header: packet_kernel-inl.h includes it inside its
