@@ -10,6 +10,9 @@ namespace rt {
 using schema::Accel;
 using schema::Algorithm;
 using schema::EarlyExit;
+using schema::GpuBvh;
+using schema::GpuPath;
+using schema::GpuSchedule;
 using schema::Kernel;
 using schema::Partition;
 using schema::PresentMode;
@@ -50,7 +53,13 @@ struct RenderOptions {
   // measured default for its packet width.
   static constexpr int kDefaultHybridThreshold = 0;
   int hybridThreshold = kDefaultHybridThreshold;
-  // --counters: the SIMD kernel tallies rays, node visits, sphere tests and
+  // The GPU renderer's traversal axes (docs/render-model.md section 3, "How
+  // the GPU renderer walks the BVH"); none changes the image. gpuBvh applies
+  // with accel bvh only; schedule and path with either accel.
+  GpuBvh gpuBvh = GpuBvh::binary;
+  GpuSchedule gpuSchedule = GpuSchedule::pixel;
+  GpuPath gpuPath = GpuPath::megakernel;
+  // --counters: the SIMD kernel (and the GPU renderer) tallies rays, node visits, sphere tests and
   // lane occupancy per frame (LaneCounters); off, the kernel compiled without them runs.
   bool counters = false;
 };

@@ -34,6 +34,11 @@ struct RendererInfo {
   // none applies.
   std::optional<Traversal> traversal{};
   std::optional<int> hybridThreshold{};
+  // The GPU renderer's axes as prepare() set them up: the BVH its shader
+  // walks (accel bvh only), its schedule and its path; empty elsewhere.
+  std::optional<GpuBvh> gpuBvh{};
+  std::optional<GpuSchedule> gpuSchedule{};
+  std::optional<GpuPath> gpuPath{};
 };
 
 // One of the thesis' interchangeable renderers. The interface is virtual
