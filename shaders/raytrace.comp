@@ -1,10 +1,19 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The render model of docs/render-model.md (sections 2-5 and 7) as a compute
-// shader, one invocation per pixel. It mirrors src/render/scalar/scalar_model.h
-// function by function, in the same operation order, so that the GPU image
-// agrees with the sequential renderer (docs/render-model.md section 8). Change both together.
-// The functions carry the scalar kernel's names (docs/render-model.md section 9).
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
+// The GPU renderer: the render model (render_model.glsl, nearest_hit.glsl)
+// traced by one of four pipelines of this shader (docs/render-model.md
+// section 3, "How the GPU renderer walks the BVH"):
+// - the megakernel: each invocation follows a pixel's path through every
+//   bounce, one invocation per pixel or, with persistent threads, as many
+//   paths as its subgroup fetches;
+// - per-bounce wavefronts: one dispatch per bounce depth traces a queue of
+//   rays and queues the reflected ones (only the live ones with the bounce
+//   exit), and a last dispatch writes the image.
+// Every pipeline computes each pixel with the same operations in the same
+// order, so all of them give the same bytes.
 
 #include "bvh_layout.h"
 #include "gpu_interface.h"
@@ -24,6 +33,18 @@ layout(constant_id = RT_SPEC_USE_BVH) const bool USE_BVH = false;
 // rt::Bvh::maxRadius and maxCoordinate, which size the traversal pad.
 layout(constant_id = RT_SPEC_BVH_MAX_RADIUS) const float BVH_MAX_RADIUS = 0.0;
 layout(constant_id = RT_SPEC_BVH_MAX_COORDINATE) const float BVH_MAX_COORDINATE = 0.0;
+
+
+// --gpu-bvh wide: walk rt::WideBvh instead of the binary tree; its stack
+// size, from the tree's depth (nearestHitInWideBvh()).
+layout(constant_id = RT_SPEC_WIDE_BVH) const bool WIDE_BVH = false;
+layout(constant_id = RT_SPEC_WIDE_STACK_SIZE) const int WIDE_STACK_SIZE = 1;
+// --gpu-schedule persistent: subgroups fetch their rays from a counter.
+layout(constant_id = RT_SPEC_PERSISTENT) const bool PERSISTENT = false;
+// RT_STAGE_*: the megakernel, or a wavefront's depth or resolve dispatch.
+layout(constant_id = RT_SPEC_STAGE) const int STAGE = RT_STAGE_MEGAKERNEL;
+// --counters: tally rays, visits, tests and lane slots (nearest_hit.glsl).
+layout(constant_id = RT_SPEC_COUNTERS) const bool COUNTERS = false;
 
 const float EPS = float(RT_HIT_EPSILON);
 
@@ -52,7 +73,7 @@ struct GPUBvhNode {
   uvec4 hiMeta;   // xyz: upper bounds, w: leaf sphere count, or split axis << 30
 };
 
-// With brute force these slots name the sphere buffer and are never read.
+// Slots a variant does not use name the sphere buffer and are never read.
 layout(std430, set = 0, binding = RT_BINDING_BVH_NODES) readonly buffer BvhNodes {
   GPUBvhNode bvhNodes[];
 };
@@ -70,155 +91,56 @@ layout(push_constant, std430) uniform FrameConstants {
   RT_FRAME_CONSTANTS(RT_GLSL_MEMBER)
 } pc;
 
-// Intersection (docs/render-model.md section 3) ==============================================
-struct Ray {
-  vec3 origin;
-  vec3 direction;  // unit
+// The wide BVH's nodes (16 vec4s each, nearest_hit.glsl) and the scene
+// index of each leaf slot.
+layout(std430, set = 0, binding = RT_BINDING_WIDE_NODES) readonly buffer WideNodes {
+  vec4 wideNodes[];
+};
+layout(std430, set = 0, binding = RT_BINDING_WIDE_INDEX) readonly buffer WideIndex {
+  int wideIndex[];
 };
 
-struct RaycastHit {
-  vec3 position;
-  vec3 normal;
-  int sphere;  // -1 for a miss
+layout(std430, set = 0, binding = RT_BINDING_COUNTERS) buffer Counters {
+  uint counterWords[];  // RT_COUNTER_COPIES x RT_COUNTER_SLOTS x (low, high)
 };
 
-// Distance along the ray to one sphere (xyz: centre, w: radius), or a
-// value <= EPS for no hit, with the cancellation-free discriminant.
-float intersectSphere(Ray ray, vec4 sphere) {
-  vec3 oc = ray.origin - sphere.xyz;
-  float b = dot(oc, ray.direction);
-  vec3 f = oc - b * ray.direction;
-  float r = sphere.w;
-  float disc = r * r - dot(f, f);
-  if (disc < 0.0) return -1.0;
-  float h = sqrt(disc);
-  float t = -b - h;
-  if (t <= EPS) t = -b + h;
-  return t;
-}
+// A queued ray of a wavefront: origin and direction, and in the origin's w
+// the ray's number (tile order), which names its path state.
+struct QueuedRay {
+  vec4 originRay;
+  vec4 direction;
+};
+layout(std430, set = 0, binding = RT_BINDING_QUEUE_EVEN) buffer QueueEven {
+  QueuedRay queueEven[];
+};
+layout(std430, set = 0, binding = RT_BINDING_QUEUE_ODD) buffer QueueOdd {
+  QueuedRay queueOdd[];
+};
+// Single-pass: each path's colour and throughput between its dispatches.
+// Two-pass: the segment count in color.w (as uint bits).
+struct PathState {
+  vec4 color;
+  vec4 throughput;
+};
+layout(std430, set = 0, binding = RT_BINDING_PATH_STATE) buffer PathStates {
+  PathState pathStates[];
+};
+// Two-pass: the forward pass's segments, depth by depth (what the
+// backward pass reads: the ray's direction, the sphere hit, the normal).
+struct StoredSegment {
+  vec4 directionSphere;  // w: the sphere's index as int bits, -1 for a miss
+  vec4 normal;
+};
+layout(std430, set = 0, binding = RT_BINDING_SEGMENTS) buffer Segments {
+  StoredSegment segments[];
+};
+// RT_CONTROL_WORDS per depth (gpu_interface.h).
+layout(std430, set = 0, binding = RT_BINDING_CONTROL) buffer Control {
+  uint controlWords[];
+};
 
-// The hit record of sphere `index` at distance `t` (or a miss for index -1).
-RaycastHit hitRecord(Ray ray, float t, int index) {
-  RaycastHit hit;
-  hit.sphere = index;
-  hit.position = vec3(0.0);
-  hit.normal = vec3(0.0);
-  if (index >= 0) {
-    vec4 s = spheres[index].positionRadius;
-    hit.position = ray.origin + t * ray.direction;
-    hit.normal = (hit.position - s.xyz) / s.w;
-    // docs/render-model.md section 4: a ray leaving the sphere sees its inside.
-    if (dot(ray.direction, hit.normal) > 0.0) hit.normal = -hit.normal;
-  }
-  return hit;
-}
-
-// Brute force: the nearest hit over all spheres; on an exact tie the lower index wins.
-RaycastHit nearestHitOfAll(Ray ray) {
-  float best = 1.0 / 0.0;  // +infinity
-  int bestIndex = -1;
-  for (uint i = 0u; i < pc.sphereCount; ++i) {
-    float t = intersectSphere(ray, spheres[i].positionRadius);
-    if (t > EPS && t < best) {
-      best = t;
-      bestIndex = int(i);
-    }
-  }
-  return hitRecord(ray, best, bestIndex);
-}
-
-// rt::traversalPad (src/render/accel/bvh.h) for this ray's origin: how far
-// a box is widened, in space and along the ray, so that no sphere the float
-// test reports a hit on is culled with its box.
-float traversalPad(vec3 origin) {
-  vec3 a = abs(origin);
-  float scale = max(max(a.x, a.y), a.z) + BVH_MAX_COORDINATE;
-  return float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * sqrt(BVH_MAX_RADIUS * scale) +
-         float(RT_BVH_PAD_RADIUS) * BVH_MAX_RADIUS + float(RT_BVH_PAD_MIN);
-}
-
-// 1 / direction, with a zero component made tiny (sign kept, -0 included),
-// so that the slab test never computes 0 * infinity, and Vulkan's division
-// stays inside the range where its precision is defined.
-vec3 inverseDirection(vec3 d) {
-  const float tiny = 1e-30;
-  uvec3 signs = floatBitsToUint(d) & 0x80000000u;
-  vec3 signedTiny = uintBitsToFloat(signs | floatBitsToUint(tiny));
-  return 1.0 / mix(d, signedTiny, lessThan(abs(d), vec3(tiny)));
-}
-
-// Whether the ray may meet a sphere inside the node's box, widened by
-// `pad`, nearer than `best` (+ pad): the CPU kernels' slab test.
-bool boxReachable(GPUBvhNode node, Ray ray, vec3 inverse, float pad, float best) {
-  vec3 t0 = (uintBitsToFloat(node.loFirst.xyz) - pad - ray.origin) * inverse;
-  vec3 t1 = (uintBitsToFloat(node.hiMeta.xyz) + pad - ray.origin) * inverse;
-  vec3 near = min(t0, t1);
-  vec3 far = max(t0, t1);
-  float tmin = max(max(near.x, near.y), near.z);
-  float tmax = min(min(far.x, far.y), far.z);
-  return tmin <= tmax && tmax >= -pad && tmin <= best + pad;
-}
-
-// With the BVH: the same nearest hit as brute force. The same
-// intersectSphere gives each sphere the same t; spheres come in tree order,
-// so an exact tie is settled by the index rather than by the visit order.
-// Near child first, a fixed stack: a node pops before its two children
-// push, so depth + 1 entries suffice.
-RaycastHit nearestHitInBvh(Ray ray) {
-  vec3 inverse = inverseDirection(ray.direction);
-  float pad = traversalPad(ray.origin);
-  float best = 1.0 / 0.0;  // +infinity
-  int bestIndex = -1;
-  uint stack[RT_BVH_MAX_DEPTH + 2];
-  int top = 0;
-  stack[top++] = 0u;
-  while (top > 0) {
-    GPUBvhNode node = bvhNodes[stack[--top]];
-    if (!boxReachable(node, ray, inverse, pad, best)) continue;
-    uint first = node.loFirst.w;
-    uint count = node.hiMeta.w & RT_BVH_COUNT_MASK;
-    if (count == 0u) {
-      bool negative = ray.direction[node.hiMeta.w >> 30] < 0.0;
-      stack[top++] = first + (negative ? 0u : 1u);  // far child
-      stack[top++] = first + (negative ? 1u : 0u);  // near child, visited next
-      continue;
-    }
-    for (uint k = first; k < first + count; ++k) {
-      int index = int(bvhOrder[k]);
-      float t = intersectSphere(ray, spheres[index].positionRadius);
-      if (t > EPS && (t < best || (t == best && index < bestIndex))) {
-        best = t;
-        bestIndex = index;
-      }
-    }
-  }
-  return hitRecord(ray, best, bestIndex);
-}
-
-// The one spatial query of the shader; the variant is fixed per pipeline.
-RaycastHit nearestHit(Ray ray) {
-  return USE_BVH ? nearestHitInBvh(ray) : nearestHitOfAll(ray);
-}
-
-// Shading (docs/render-model.md section 4) ===================================================
-vec3 localColor(RaycastHit hit, vec3 direction, vec3 sphereColor) {
-  vec3 n = hit.normal;
-  vec3 l = pc.toLight;
-  vec3 ambient = pc.ambientColor * sphereColor;
-  vec3 diffuse = max(dot(n, l), 0.0) * pc.lightColor * sphereColor;
-  vec3 rr = -l - 2.0 * dot(-l, n) * n;  // reflect(-l, n)
-  // GLSL leaves pow(0, 0) undefined (NaN on some GPUs); C++ gives 1.
-  // Clamped to [0, 1] as in the scalar model (render model section 4).
-  float highlight = pc.shininess == 0.0 ? 1.0 : pow(clamp(dot(rr, -direction), 0.0, 1.0), pc.shininess);
-  return ambient + diffuse + pc.specularStrength * highlight * pc.lightColor;
-}
-
-// The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
-Ray reflectedRay(Ray ray, RaycastHit hit) {
-  vec3 d = ray.direction;
-  vec3 n = hit.normal;
-  return Ray(hit.position + n * EPS, normalize(d - 2.0 * dot(d, n) * n));
-}
+#include "render_model.glsl"
+#include "nearest_hit.glsl"
 
 // The two algorithms (docs/render-model.md section 5) ========================================
 
@@ -236,6 +158,7 @@ vec3 traceSinglePass(Ray ray) {
   vec3 throughput = vec3(1.0);
   for (int depth = 0; depth < MAX_DEPTH; ++depth) {
     RaycastHit hit = nearestHit(ray);
+    endSearch(depth, hit.sphere >= 0);
     if (hit.sphere < 0) {
       color += throughput * pc.background;
       if (BOUNCE_EXIT) break;
@@ -268,6 +191,7 @@ vec3 traceTwoPass(Ray ray) {
   for (; count < MAX_DEPTH; ++count) {
     segments[count].ray = ray;
     segments[count].hit = nearestHit(ray);
+    endSearch(count, segments[count].hit.sphere >= 0);
     segments[count].sphereColor = vec3(0.0);
     if (segments[count].hit.sphere < 0) {
       if (BOUNCE_EXIT) {
@@ -284,32 +208,203 @@ vec3 traceTwoPass(Ray ray) {
   return acc;
 }
 
-// Camera and output (docs/render-model.md sections 2 and 7) ==================================
-vec3 primaryRayDirection(ivec2 pixel) {
-  float w = float(pc.width);
-  float h = float(pc.height);
-  float th = pc.tanHalfFov;
-  float u = (2.0 * (float(pixel.x) + 0.5) / w - 1.0) * th * (w / h);
-  float v = (1.0 - 2.0 * (float(pixel.y) + 0.5) / h) * th;
-  return pc.cameraForward + u * pc.cameraRight + v * pc.cameraUp;
+
+// Rays and pixels ============================================================================
+// Rays are numbered in 8x8 tiles (gpu_interface.h); the image's overhang
+// to whole tiles has numbers but no pixels.
+uint tilesAcross() { return (uint(pc.width) + RT_TILE_SIZE - 1u) / RT_TILE_SIZE; }
+uint rayCount() { return tilesAcross() * ((uint(pc.height) + RT_TILE_SIZE - 1u) / RT_TILE_SIZE) * RT_TILE_RAYS; }
+
+ivec2 pixelOfRay(uint ray) {
+  uint tile = ray / RT_TILE_RAYS;
+  uint within = ray % RT_TILE_RAYS;
+  return ivec2((tile % tilesAcross()) * RT_TILE_SIZE + within % RT_TILE_SIZE,
+               (tile / tilesAcross()) * RT_TILE_SIZE + within / RT_TILE_SIZE);
 }
 
-// The camera ray through the pixel's centre.
-Ray primaryRay(ivec2 pixel) {
-  return Ray(pc.cameraPosition, normalize(primaryRayDirection(pixel)));
+uint rayOfPixel(ivec2 pixel) {
+  uvec2 p = uvec2(pixel);
+  uint tile = (p.y / RT_TILE_SIZE) * tilesAcross() + p.x / RT_TILE_SIZE;
+  return tile * RT_TILE_RAYS + (p.y % RT_TILE_SIZE) * RT_TILE_SIZE + p.x % RT_TILE_SIZE;
 }
 
-// Clamp and round(255 c) here, so that the value stored is k / 255 exactly
-// and the rgba8 conversion cannot round differently from the CPU renderers.
-vec4 toRgba8(vec3 c) {
-  return vec4(floor(clamp(c, 0.0, 1.0) * 255.0 + 0.5) / 255.0, 1.0);
-}
+bool insideImage(ivec2 pixel) { return pixel.x < pc.width && pixel.y < pc.height; }
 
-void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  // The grid is rounded up to whole workgroups: skip the overhang.
-  if (pixel.x >= pc.width || pixel.y >= pc.height) return;
+// The megakernel ==============================================================================
+void renderPixel(ivec2 pixel) {
   Ray ray = primaryRay(pixel);
   vec3 color = TWO_PASS ? traceTwoPass(ray) : traceSinglePass(ray);
   imageStore(outputImage, pixel, toRgba8(color));
+}
+
+// Per-bounce wavefronts =======================================================================
+uint controlWord(int depth, uint word) { return uint(depth) * RT_CONTROL_WORDS + word; }
+
+// The rays queued for `depth`: all of them at depth 0, where the camera
+// makes them; later, as many as the depth before queued.
+uint queuedRays(int depth) { return depth == 0 ? rayCount() : controlWords[controlWord(depth, RT_CONTROL_COUNT)]; }
+
+// Member by member: glslang makes invalid SPIR-V of a ?: between the two blocks' structs.
+Ray queuedRay(int depth, uint slot, out uint number) {
+  vec4 origin = (depth & 1) == 0 ? queueEven[slot].originRay : queueOdd[slot].originRay;
+  vec4 direction = (depth & 1) == 0 ? queueEven[slot].direction : queueOdd[slot].direction;
+  number = floatBitsToUint(origin.w);
+  return Ray(origin.xyz, direction.xyz);
+}
+
+// Queues `ray` (number `number`) for depth + 1. The subgroup's invocations
+// that queue take consecutive slots with one atomicAdd, and the next
+// dispatch's size grows to cover them.
+void queueRay(int depth, Ray ray, uint number) {
+  uvec4 queuing = subgroupBallot(true);
+  uint count = subgroupBallotBitCount(queuing);
+  uint base = 0u;
+  if (subgroupElect()) {
+    base = atomicAdd(controlWords[controlWord(depth + 1, RT_CONTROL_COUNT)], count);
+    uint raysPerRow = RT_WAVEFRONT_GROUPS_X * RT_TILE_RAYS;
+    atomicMax(controlWords[controlWord(depth + 1, RT_CONTROL_GROUPS_Y)], (base + count + raysPerRow - 1u) / raysPerRow);
+  }
+  uint slot = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(queuing);
+  QueuedRay queued = QueuedRay(vec4(ray.origin, uintBitsToFloat(number)), vec4(ray.direction, 0.0));
+  if (((depth + 1) & 1) == 0) {
+    queueEven[slot] = queued;
+  } else {
+    queueOdd[slot] = queued;
+  }
+}
+
+// The single-pass algorithm's step at `depth` for one path: traceSinglePass's
+// loop body, with the colour and throughput kept in the path's state.
+void stepSinglePass(int depth, Ray ray, uint number) {
+  vec3 color = vec3(0.0);
+  vec3 throughput = vec3(1.0);
+  if (depth > 0) {
+    color = pathStates[number].color.rgb;
+    throughput = pathStates[number].throughput.rgb;
+  }
+  RaycastHit hit = nearestHit(ray);
+  endSearch(depth, hit.sphere >= 0);
+  bool goesOn = depth + 1 < MAX_DEPTH;
+  if (hit.sphere < 0) {
+    color += throughput * pc.background;
+    // Without the early exit the dead ray is traced again and adds nothing.
+    throughput = vec3(0.0);
+    goesOn = goesOn && !BOUNCE_EXIT;
+  } else {
+    shadeBounce(hit, ray, color, throughput);
+  }
+  pathStates[number] = PathState(vec4(color, 0.0), vec4(throughput, 0.0));
+  if (goesOn) queueRay(depth, ray, number);
+}
+
+// The two-pass algorithm's forward step at `depth`: traceTwoPass's first
+// loop, its segment stored for the resolve dispatch's backward pass.
+void stepTwoPass(int depth, Ray ray, uint number) {
+  RaycastHit hit = nearestHit(ray);
+  endSearch(depth, hit.sphere >= 0);
+  uint rayCapacity = rayCount();
+  segments[uint(depth) * rayCapacity + number] =
+      StoredSegment(vec4(ray.direction, intBitsToFloat(hit.sphere)), vec4(hit.normal, 0.0));
+  pathStates[number].color.w = uintBitsToFloat(uint(depth + 1));
+  bool goesOn = depth + 1 < MAX_DEPTH;
+  if (hit.sphere < 0) {
+    goesOn = goesOn && !BOUNCE_EXIT;  // a segment after a miss is a miss: the ray stays as it was
+  } else {
+    ray = reflectedRay(ray, hit);
+  }
+  if (goesOn) queueRay(depth, ray, number);
+}
+
+// One queued ray of the wavefront at depth pc.wavefrontDepth (slot in its
+// queue); at depth 0 the camera's ray of ray number `slot`.
+void traceQueuedRay(uint slot) {
+  int depth = pc.wavefrontDepth;
+  Ray ray;
+  uint number = slot;
+  if (depth == 0) {
+    ivec2 pixel = pixelOfRay(number);
+    if (!insideImage(pixel)) return;
+    ray = primaryRay(pixel);
+  } else {
+    ray = queuedRay(depth, slot, number);
+  }
+  if (TWO_PASS) {
+    stepTwoPass(depth, ray, number);
+  } else {
+    stepSinglePass(depth, ray, number);
+  }
+}
+
+// The wavefront's last dispatch: the pixel's colour (single-pass), or the
+// backward pass over its stored segments (two-pass), as traceTwoPass folds them.
+vec3 resolvedColor(uint number) {
+  if (!TWO_PASS) return pathStates[number].color.rgb;
+  int count = int(floatBitsToUint(pathStates[number].color.w));
+  uint rayCapacity = rayCount();
+  vec3 acc = vec3(0.0);
+  for (int i = count - 1; i >= 0; --i) {
+    StoredSegment stored = segments[uint(i) * rayCapacity + number];
+    PathSegment s;
+    s.ray = Ray(vec3(0.0), stored.directionSphere.xyz);
+    s.hit = RaycastHit(vec3(0.0), stored.normal.xyz, floatBitsToInt(stored.directionSphere.w));
+    s.sphereColor = s.hit.sphere < 0 ? vec3(0.0) : spheres[s.hit.sphere].colorPad.rgb;
+    acc = foldSegment(acc, s);
+  }
+  return acc;
+}
+
+// Schedules ====================================================================================
+// This dispatch's work item: a pixel's path (megakernel) or a queued ray.
+void runWorkItem(uint item) {
+  if (STAGE == RT_STAGE_MEGAKERNEL) {
+    ivec2 pixel = pixelOfRay(item);
+    if (insideImage(pixel)) renderPixel(pixel);
+  } else {
+    traceQueuedRay(item);
+  }
+}
+
+uint workItems() { return STAGE == RT_STAGE_MEGAKERNEL ? rayCount() : queuedRays(pc.wavefrontDepth); }
+
+// Persistent threads: each subgroup takes the next gl_SubgroupSize work
+// items with one atomicAdd until none are left. The loop's condition is
+// the same for the whole subgroup, which stays together for the fetch.
+// A subgroup takes at most twice its fair share: lavapipe runs a dispatch's
+// workgroups a few at a time, so its first subgroups would take every item,
+// and its compiler ends any invocation's loops after 65535 iterations in
+// all. The invocations' shares together hold every item twice over.
+void runPersistent() {
+  uint items = workItems();
+  uint fetch = controlWord(STAGE == RT_STAGE_MEGAKERNEL ? 0 : pc.wavefrontDepth, RT_CONTROL_FETCH);
+  uint invocations = gl_NumWorkGroups.x * RT_TILE_RAYS;
+  uint rounds = 2u * ((items + invocations - 1u) / invocations);
+  for (uint round = 0u; round < rounds; ++round) {
+    uint base = 0u;
+    if (subgroupElect()) base = atomicAdd(controlWords[fetch], gl_SubgroupSize);
+    base = subgroupBroadcastFirst(base);
+    if (base >= items) break;
+    uint item = base + gl_SubgroupInvocationID;
+    if (item < items) runWorkItem(item);
+  }
+}
+
+void main() {
+  beginCounting();
+  if (STAGE == RT_STAGE_WAVEFRONT_RESOLVE) {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (insideImage(pixel)) imageStore(outputImage, pixel, toRgba8(resolvedColor(rayOfPixel(pixel))));
+  } else if (PERSISTENT) {
+    runPersistent();
+  } else if (STAGE == RT_STAGE_MEGAKERNEL) {
+    // One invocation per pixel, in 8x8 workgroups; the grid is rounded up
+    // to whole workgroups, and the overhang does nothing.
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (insideImage(pixel)) renderPixel(pixel);
+  } else {
+    // A row of RT_WAVEFRONT_GROUPS_X workgroups per RT_WAVEFRONT_GROUPS_X * 64 queued rays.
+    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uint slot = group * RT_TILE_RAYS + gl_LocalInvocationIndex;
+    if (slot < workItems()) traceQueuedRay(slot);
+  }
+  flushCounters();
 }

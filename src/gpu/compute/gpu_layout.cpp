@@ -26,7 +26,7 @@ FrameConstants makeFrameConstants(const ShadingParams& shading, std::uint32_t sp
           .toLight = shading.toLight, .reflectivity = shading.reflectivity,
           .lightColor = shading.lightColor, .shininess = shading.shininess,
           .ambientColor = shading.ambientColor, .specularStrength = shading.specularStrength,
-          .background = shading.background, .unused = 0.0f};
+          .background = shading.background, .wavefrontDepth = 0};
   // clang-format on
 }
 

@@ -10,6 +10,7 @@
 
 #include "gpu_interface.h"
 #include "render/accel/bvh.h"
+#include "render/accel/wide_bvh.h"
 #include "render/shading_params.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -43,6 +44,17 @@ static_assert(offsetof(BvhNode, hi) == 16);
 static_assert(offsetof(BvhNode, meta) == 28);
 static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t));
 
+// --gpu-bvh wide: rt::WideBvh's nodes go to the shader as built, 16 vec4s
+// each (shaders/nearest_hit.glsl): the six planes of 8 floats, the child
+// words, the child count. Its index array is plain ints.
+static_assert(kWideBvhWidth == 8, "the shader walks 8-wide nodes");
+static_assert(sizeof(WideBvhNode) == 256);
+static_assert(offsetof(WideBvhNode, bounds) == 0);
+static_assert(offsetof(WideBvhNode, child) == 12 * 16);
+static_assert(offsetof(WideBvhNode, childCount) == 14 * 16);
+static_assert(sizeof(WideChild) == sizeof(std::uint32_t));
+static_assert(sizeof(decltype(WideBvh::index)::value_type) == sizeof(std::int32_t));
+
 // The push-constant block, declared from the member list the shader
 // declares its block from (RT_FRAME_CONSTANTS, shaders/gpu_interface.h):
 // the GLSL type names stand for their C++ twins here.
@@ -66,10 +78,19 @@ struct SpecializationConstants {
   std::uint32_t twoPass;     // VkBool32
   std::uint32_t bounceExit;  // VkBool32
   std::int32_t maxDepth;
-  std::uint32_t useBvh = 0;       // VkBool32: --accel bvh
-  float bvhMaxRadius = 0.0f;      // Bvh::maxRadius and maxCoordinate, for the
-  float bvhMaxCoordinate = 0.0f;  // traversal pad; unused without the BVH
+  std::uint32_t useBvh = 0;        // VkBool32: --accel bvh
+  float bvhMaxRadius = 0.0f;       // Bvh::maxRadius and maxCoordinate, for the
+  float bvhMaxCoordinate = 0.0f;   // traversal pad; unused without the BVH
+  std::uint32_t wideBvh = 0;       // VkBool32: --gpu-bvh wide
+  std::int32_t wideStackSize = 1;  // entries the wide walk's stack needs
+  std::uint32_t persistent = 0;    // VkBool32: --gpu-schedule persistent
+  std::int32_t stage = RT_STAGE_MEGAKERNEL;
+  std::uint32_t counters = 0;  // VkBool32: --counters
 };
+
+// The wide walk pushes at most kWideBvhWidth - 1 children per level of the
+// tree on its way down (shaders/nearest_hit.glsl).
+constexpr std::int32_t wideStackSize(const WideBvh& wide) { return (kWideBvhWidth - 1) * (wide.depth + 1) + 1; }
 
 std::vector<GPUSphere> toGpuSpheres(std::span<const Sphere> spheres);
 

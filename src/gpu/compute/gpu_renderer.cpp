@@ -1,10 +1,14 @@
 #include "gpu/compute/gpu_renderer.h"
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstring>
 #include <optional>
 #include <span>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "core/profiler.h"
 #include "gpu/compute/gpu_layout.h"
@@ -15,6 +19,7 @@
 #include "gpu/vulkan/gpu_profiler.h"
 #include "gpu/vulkan/timestamps.h"
 #include "render/accel/bvh.h"
+#include "render/accel/wide_bvh.h"
 
 namespace rt::gpu {
 namespace {
@@ -28,7 +33,8 @@ constexpr ImageState kShaderWrite{PipelineStage::eComputeShader, Access::eShader
 constexpr ImageState kTransferRead{PipelineStage::eTransfer, Access::eTransferRead,
                                    vk::ImageLayout::eTransferSrcOptimal};
 
-SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
+SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh,
+                                          const WideBvh* wide) {
   SpecializationConstants constants{.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
                                     .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
                                     .maxDepth = scene.render.maxDepth};
@@ -37,7 +43,85 @@ SpecializationConstants specializationFor(const Scene& scene, const RenderOption
     constants.bvhMaxRadius = bvh->maxRadius;
     constants.bvhMaxCoordinate = bvh->maxCoordinate;
   }
+  if (wide) {
+    constants.wideBvh = VK_TRUE;
+    constants.wideStackSize = wideStackSize(*wide);
+  }
+  constants.persistent = options.gpuSchedule == GpuSchedule::persistent ? VK_TRUE : VK_FALSE;
+  constants.counters = options.counters ? VK_TRUE : VK_FALSE;
   return constants;
+}
+
+std::vector<RaytraceStage> stagesOf(GpuPath path) {
+  if (path == GpuPath::wavefront) return {RaytraceStage::wavefrontDepth, RaytraceStage::wavefrontResolve};
+  return {RaytraceStage::megakernel};
+}
+
+// Rays of a frame as the shader numbers them: whole 8x8 tiles.
+std::uint32_t rayCount(Extent extent) {
+  return workgroupCount(extent.width, RT_TILE_SIZE) * workgroupCount(extent.height, RT_TILE_SIZE) * RT_TILE_RAYS;
+}
+
+// Rows of RT_WAVEFRONT_GROUPS_X workgroups that cover `rays` queued rays.
+std::uint32_t wavefrontRows(std::uint32_t rays) {
+  constexpr std::uint32_t kRaysPerRow = RT_WAVEFRONT_GROUPS_X * RT_TILE_RAYS;
+  return (rays + kRaysPerRow - 1) / kRaysPerRow;
+}
+
+// The persistent threads' fetch counters and the wavefront's per-depth
+// queue counts and dispatch sizes as every frame starts (gpu_interface.h):
+// depth 0 holds every ray, the others none yet.
+std::vector<std::uint32_t> initialControl(int maxDepth, Extent extent) {
+  std::vector<std::uint32_t> words(static_cast<std::size_t>(maxDepth + 1) * RT_CONTROL_WORDS, 0u);
+  for (int depth = 0; depth <= maxDepth; ++depth) {
+    std::uint32_t* control = words.data() + static_cast<std::size_t>(depth) * RT_CONTROL_WORDS;
+    control[0] = RT_WAVEFRONT_GROUPS_X;
+    control[2] = 1;
+  }
+  words[RT_CONTROL_GROUPS_Y] = wavefrontRows(rayCount(extent));
+  words[RT_CONTROL_COUNT] = rayCount(extent);
+  return words;
+}
+
+// What a buffer of `bytes` the shader binds needs of the device: refused
+// with the figure where it passes maxStorageBufferRange.
+vk::DeviceSize checkedStorageSize(const Device& device, vk::DeviceSize bytes, const char* what) {
+  const vk::DeviceSize limit = device.physical().getProperties().limits.maxStorageBufferRange;
+  if (bytes > limit) {
+    throw RendererUnavailable("the GPU renderer's " + std::string(what) + " would take " + std::to_string(bytes) +
+                              " bytes, more than this device's maxStorageBufferRange (" + std::to_string(limit) +
+                              "): choose a smaller image (or a smaller maxDepth)");
+  }
+  return bytes;
+}
+
+// Subgroup operations the shader's variants use: persistent threads
+// (elect, broadcast), the wavefront's queues (ballot) and the counters
+// (arithmetic), all in the compute stage.
+void requireSubgroupOperations(const Device& device, const RenderOptions& options) {
+  if (options.gpuSchedule == GpuSchedule::pixel && options.gpuPath == GpuPath::megakernel && !options.counters) return;
+  const auto chain =
+      device.physical().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
+  const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
+  const vk::SubgroupFeatureFlags needed = vk::SubgroupFeatureFlagBits::eBasic | vk::SubgroupFeatureFlagBits::eBallot |
+                                          vk::SubgroupFeatureFlagBits::eArithmetic;
+  if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
+      (subgroup.supportedOperations & needed) != needed) {
+    throw RendererUnavailable(
+        "this Vulkan device offers no basic, ballot and arithmetic subgroup operations in compute shaders, which "
+        "--gpu-schedule persistent, --gpu-path wavefront and --counters need");
+  }
+}
+
+// A memory barrier between two dispatches of a wavefront frame: the first
+// one's queue, state and control writes are seen by the next one's shader
+// and by its indirect dispatch size.
+void dispatchBarrier(const vk::raii::CommandBuffer& cb) {
+  const vk::MemoryBarrier barrier{
+      .srcAccessMask = Access::eShaderWrite,
+      .dstAccessMask = Access::eShaderRead | Access::eShaderWrite | Access::eIndirectCommandRead};
+  cb.pipelineBarrier(PipelineStage::eComputeShader, PipelineStage::eComputeShader | PipelineStage::eDrawIndirect, {},
+                     barrier, {}, {});
 }
 
 // `data` in a new device-local storage buffer, through a staging buffer:
@@ -75,6 +159,94 @@ struct BvhBuffers {
   Buffer order;
 };
 
+// --gpu-bvh wide: the wide tree collapsed from the binary one, on the device.
+struct WideBvhBuffers {
+  WideBvhBuffers(const Device& device, CommandRunner& runner, const WideBvh& wide)
+      : nodes(uploadStorage(device, runner, std::span(wide.nodes))),
+        index(uploadStorage(device, runner, std::span(wide.index))) {}
+  Buffer nodes;
+  Buffer index;
+};
+
+std::optional<WideBvh> wideBvhFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
+  if (!bvh || options.gpuBvh != GpuBvh::wide) return std::nullopt;
+  return buildWideBvh(*bvh, scene.spheres);
+}
+
+constexpr vk::DeviceSize kCounterBytes =
+    vk::DeviceSize{RT_COUNTER_COPIES} * RT_COUNTER_SLOTS * 2 * sizeof(std::uint32_t);
+
+// --counters: the shader's counters on the device, zeroed before each
+// frame, and where they are copied for the host after it.
+struct CounterBuffers {
+  explicit CounterBuffers(const Device& device)
+      : counters(device, kCounterBytes,
+                 vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst |
+                     vk::BufferUsageFlagBits::eTransferSrc,
+                 MemoryUse::deviceLocal),
+        readback(device, kCounterBytes, vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback) {}
+  Buffer counters;
+  Buffer readback;
+
+  // The copies' sums as the LaneCounters fields (gpu_interface.h's slots).
+  [[nodiscard]] LaneCounters read() const {
+    readback.invalidateForHost();
+    std::array<std::uint32_t, kCounterBytes / sizeof(std::uint32_t)> words{};
+    std::memcpy(words.data(), readback.mapped().data(), kCounterBytes);
+    std::array<std::uint64_t, RT_COUNTER_SLOTS> sums{};
+    for (std::size_t copy = 0; copy < RT_COUNTER_COPIES; ++copy) {
+      for (std::size_t slot = 0; slot < RT_COUNTER_SLOTS; ++slot) {
+        const std::size_t at = (copy * RT_COUNTER_SLOTS + slot) * 2;
+        sums[slot] += words[at] | (std::uint64_t{words[at + 1]} << 32);
+      }
+    }
+    LaneCounters counted;
+    std::copy_n(sums.begin(), kCountedDepths, counted.raysPerDepth.begin());
+    counted.nodeVisits = sums[RT_COUNTER_NODE_VISITS];
+    counted.nodeLaneSlots = sums[RT_COUNTER_NODE_LANE_SLOTS];
+    counted.nodeLanesActive = counted.nodeVisits;  // an invocation's visit is its own useful work
+    counted.sphereTests = sums[RT_COUNTER_SPHERE_TESTS];
+    counted.sphereLaneSlots = sums[RT_COUNTER_SPHERE_LANE_SLOTS];
+    counted.sphereLanesActive = counted.sphereTests;
+    counted.shadeLaneSlots = sums[RT_COUNTER_SHADE_LANE_SLOTS];
+    counted.shadeLanesActive = sums[RT_COUNTER_SHADE_LANES_ACTIVE];
+    return counted;
+  }
+};
+static_assert(RT_COUNTER_NODE_VISITS == kCountedDepths, "the counter slots after the depths");
+
+Buffer deviceStorage(const Device& device, vk::DeviceSize bytes, const char* what,
+                     vk::BufferUsageFlags extraUsage = {}) {
+  return Buffer(device, checkedStorageSize(device, bytes, what), vk::BufferUsageFlagBits::eStorageBuffer | extraUsage,
+                MemoryUse::deviceLocal);
+}
+
+// The fetch counters of persistent threads and, for wavefronts, the ray
+// queues, the paths' state and the two-pass segments.
+struct ScheduleBuffers {
+  ScheduleBuffers(const Device& device, const Scene& scene, Extent extent, const RenderOptions& options)
+      : control(deviceStorage(device, initialControl(scene.render.maxDepth, extent).size() * sizeof(std::uint32_t),
+                              "control",
+                              vk::BufferUsageFlagBits::eIndirectBuffer | vk::BufferUsageFlagBits::eTransferDst)) {
+    if (options.gpuPath != GpuPath::wavefront) return;
+    constexpr vk::DeviceSize kRayBytes = 32;  // QueuedRay, PathState and StoredSegment alike
+    const vk::DeviceSize rays = rayCount(extent);
+    queueEven.emplace(deviceStorage(device, rays * kRayBytes, "ray queue"));
+    queueOdd.emplace(deviceStorage(device, rays * kRayBytes, "ray queue"));
+    pathStates.emplace(deviceStorage(device, rays * kRayBytes, "path states"));
+    if (options.algorithm == Algorithm::two_pass) {
+      segments.emplace(deviceStorage(device, rays * kRayBytes * static_cast<vk::DeviceSize>(scene.render.maxDepth),
+                                     "two-pass segments"));
+    }
+  }
+  Buffer control;
+  std::optional<Buffer> queueEven, queueOdd, pathStates, segments;
+};
+
+bool usesScheduleBuffers(const RenderOptions& options) {
+  return options.gpuSchedule == GpuSchedule::persistent || options.gpuPath == GpuPath::wavefront;
+}
+
 }  // namespace
 
 // What lives as long as the renderer: one command buffer for every phase and the timestamp queries.
@@ -90,14 +262,20 @@ struct GPURenderer::DeviceObjects {
 // creation order, so the descriptor set goes before the buffer and image
 // it names.
 struct GPURenderer::SceneObjects {
-  SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& options, PresentMode mode)
+  SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& o, PresentMode mode)
       : scene(s),
+        options(o),
         shading(shadingParamsOf(s)),
         extent(e),
-        accel(accelFor(s, options)),
-        pipeline(d.device, specializationFor(s, options, accel.bvh())),
+        accel(accelFor(s, o)),
+        wide(wideBvhFor(s, o, accel.bvh())),
+        pipeline(d.device, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
         spheres(uploadStorage(d.device, d.runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
         bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d.device, d.runner, *accel.bvh()) : std::nullopt),
+        wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d.device, d.runner, *wide) : std::nullopt),
+        counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d.device) : std::nullopt),
+        scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d.device, s, e, o) : std::nullopt),
+        initialControlWords(initialControl(s.render.maxDepth, e)),
         output(d.device, e, vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc),
         bindings(d.device, pipeline, sceneBuffers(), output),
         readback(d.device, frameBytes(e), vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback) {
@@ -105,24 +283,109 @@ struct GPURenderer::SceneObjects {
   }
 
   const Scene& scene;
+  RenderOptions options;
   ShadingParams shading;  // the push constants' scene part, built once per scene
   Extent extent;
-  AccelStructure accel;  // the BVH with --accel bvh; its bounds went into the pipeline
+  AccelStructure accel;         // the BVH with --accel bvh; its bounds went into the pipeline
+  std::optional<WideBvh> wide;  // --gpu-bvh wide only
   RaytracePipeline pipeline;
   Buffer spheres;
   std::optional<BvhBuffers> bvhBuffers;  // --accel bvh only
+  std::optional<WideBvhBuffers> wideBuffers;
+  std::optional<CounterBuffers> counterBuffers;    // --counters only
+  std::optional<ScheduleBuffers> scheduleBuffers;  // persistent threads or wavefronts only
+  std::vector<std::uint32_t> initialControlWords;  // what the control buffer holds as a frame starts
   DeviceImage output;
   RaytraceBindings bindings;
   Buffer readback;
   std::optional<PresentImage> presentImage;                    // mode upload only
   vk::ImageLayout outputLayout = vk::ImageLayout::eUndefined;  // as the last submitted commands left it
 
-  // The buffers the shader binds. Without a BVH the spheres stand in for
-  // it: a descriptor must name a live buffer, and the brute-force pipeline
-  // never reads those slots.
+  // The buffers the shader binds. The spheres stand in for those a variant
+  // lacks: a descriptor must name a live buffer, and that pipeline never
+  // touches those slots.
   [[nodiscard]] SceneBuffers sceneBuffers() const {
-    if (!bvhBuffers) return {spheres.handle(), spheres.handle(), spheres.handle()};
-    return {spheres.handle(), bvhBuffers->nodes.handle(), bvhBuffers->order.handle()};
+    SceneBuffers buffers = SceneBuffers::allSpheres(spheres.handle());
+    if (bvhBuffers) {
+      buffers.bvhNodes = bvhBuffers->nodes.handle();
+      buffers.bvhOrder = bvhBuffers->order.handle();
+    }
+    if (wideBuffers) {
+      buffers.wideNodes = wideBuffers->nodes.handle();
+      buffers.wideIndex = wideBuffers->index.handle();
+    }
+    if (counterBuffers) buffers.counters = counterBuffers->counters.handle();
+    if (scheduleBuffers) {
+      const ScheduleBuffers& b = *scheduleBuffers;
+      buffers.control = b.control.handle();
+      const auto handleOr = [&](const std::optional<Buffer>& buffer) {
+        return buffer ? buffer->handle() : spheres.handle();
+      };
+      buffers.queueEven = handleOr(b.queueEven);
+      buffers.queueOdd = handleOr(b.queueOdd);
+      buffers.pathStates = handleOr(b.pathStates);
+      buffers.segments = handleOr(b.segments);
+    }
+    return buffers;
+  }
+
+  // Before the timed dispatches: zero the counters, reset the fetch
+  // counters and queue sizes; the dispatches see those writes.
+  void recordFrameReset(const vk::raii::CommandBuffer& cb) const {
+    if (counterBuffers) {
+      cb.fillBuffer(counterBuffers->counters.handle(), 0, VK_WHOLE_SIZE, 0u);
+      bufferBarrier(cb, counterBuffers->counters.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
+                    PipelineStage::eComputeShader, Access::eShaderRead | Access::eShaderWrite);
+    }
+    if (scheduleBuffers) {
+      cb.updateBuffer<std::uint32_t>(scheduleBuffers->control.handle(), 0, initialControlWords);
+      bufferBarrier(cb, scheduleBuffers->control.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
+                    PipelineStage::eComputeShader | PipelineStage::eDrawIndirect,
+                    Access::eShaderRead | Access::eShaderWrite | Access::eIndirectCommandRead);
+    }
+  }
+
+  // The frame's dispatches: the megakernel's one, or a wavefront's one per
+  // bounce depth and its resolve. Persistent threads launch a fixed grid.
+  void recordDispatches(const vk::raii::CommandBuffer& cb, vk::DescriptorSet set,
+                        const FrameConstants& constants) const {
+    const std::uint32_t tilesAcross = workgroupCount(extent.width, RT_WORKGROUP_SIZE_X);
+    const std::uint32_t tilesDown = workgroupCount(extent.height, RT_WORKGROUP_SIZE_Y);
+    const bool persistent = options.gpuSchedule == GpuSchedule::persistent;
+    if (options.gpuPath == GpuPath::megakernel) {
+      pipeline.recordBind(cb, RaytraceStage::megakernel, set, constants);
+      if (persistent) {
+        cb.dispatch(RT_PERSISTENT_WORKGROUPS, 1, 1);
+      } else {
+        cb.dispatch(tilesAcross, tilesDown, 1);
+      }
+      return;
+    }
+    pipeline.recordBind(cb, RaytraceStage::wavefrontDepth, set, constants);
+    for (int depth = 0; depth < scene.render.maxDepth; ++depth) {
+      if (depth > 0) dispatchBarrier(cb);
+      pipeline.recordWavefrontDepth(cb, depth);
+      if (persistent) {
+        cb.dispatch(RT_PERSISTENT_WORKGROUPS, 1, 1);
+      } else if (depth == 0) {
+        cb.dispatch(RT_WAVEFRONT_GROUPS_X, wavefrontRows(rayCount(extent)), 1);
+      } else {
+        cb.dispatchIndirect(scheduleBuffers->control.handle(),
+                            static_cast<vk::DeviceSize>(depth) * RT_CONTROL_WORDS * sizeof(std::uint32_t));
+      }
+    }
+    dispatchBarrier(cb);
+    pipeline.recordBind(cb, RaytraceStage::wavefrontResolve, set, constants);
+    cb.dispatch(tilesAcross, tilesDown, 1);
+  }
+
+  // After the timed dispatches: the counters copied out for the host.
+  void recordCounterReadback(const vk::raii::CommandBuffer& cb) const {
+    if (!counterBuffers) return;
+    bufferBarrier(cb, counterBuffers->counters.handle(), PipelineStage::eComputeShader, Access::eShaderWrite,
+                  PipelineStage::eTransfer, Access::eTransferRead);
+    cb.copyBuffer(counterBuffers->counters.handle(), counterBuffers->readback.handle(),
+                  vk::BufferCopy{.size = kCounterBytes});
   }
 
   // Records the output's move from the shader's writes to copies' reads, once per frame.
@@ -158,7 +421,11 @@ RendererInfo GPURenderer::info() const {
   info.kind = RendererKind::gpu;
   info.threads = 0;  // the device schedules the work
   info.lanes = 0;
-  if (scene_) info.accelStructure = scene_->accel.info();
+  if (!scene_) return info;
+  info.accelStructure = scene_->accel.info();
+  if (scene_->accel.bvh()) info.gpuBvh = scene_->options.gpuBvh;
+  info.gpuSchedule = scene_->options.gpuSchedule;
+  info.gpuPath = scene_->options.gpuPath;
   return info;
 }
 
@@ -167,6 +434,8 @@ void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions
   if (window_) translateVulkanErrors("GPU renderer prepare", [&] { context_->device().logical().waitIdle(); });
   scene_.reset();  // the old objects go before new ones take their memory
   gpuMs_.reset();
+  counters_.reset();
+  requireSubgroupOperations(context_->device(), options);
   scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
     return std::make_unique<SceneObjects>(*device_, scene, extent, options, presentMode_);
   });
@@ -188,18 +457,21 @@ void GPURenderer::render(const CameraFrame& camera) {
       // Last frame's GPU zones have completed (its submit was waited for).
       TracyVkCollect(profiler.context(), *cb);
       timer.recordReset(cb);
+      s.recordFrameReset(cb);
       // The last frame's copies out of the image finish before the shader
       // overwrites it; from UNDEFINED, since every pixel is written anew.
       imageBarrier(cb, s.output.handle(), {PipelineStage::eTransfer, {}, vk::ImageLayout::eUndefined}, kShaderWrite);
-      s.pipeline.recordBind(cb, s.bindings.set(), constants);
-      TracyVkZone(profiler.context(), *cb, "raytrace dispatch");
-      timer.recordStart(cb);
-      cb.dispatch(workgroupCount(s.extent.width, RT_WORKGROUP_SIZE_X),
-                  workgroupCount(s.extent.height, RT_WORKGROUP_SIZE_Y), 1);
-      timer.recordEnd(cb);
+      {
+        TracyVkZone(profiler.context(), *cb, "raytrace dispatch");
+        timer.recordStart(cb);
+        s.recordDispatches(cb, s.bindings.set(), constants);
+        timer.recordEnd(cb);
+      }
+      s.recordCounterReadback(cb);
     });
     s.outputLayout = kShaderWrite.layout;
     gpuMs_ = timer.readMs();
+    if (s.counterBuffers) counters_ = s.counterBuffers->read();
   });
 }
 

@@ -10,7 +10,8 @@ class Context;
 class Swapchain;
 
 // The thesis' GPURenderer: a Vulkan compute shader, one invocation per
-// pixel, on any Vulkan 1.2 device (a GPU, or lavapipe on the CPU).
+// pixel, on any Vulkan 1.2 device (a GPU, or lavapipe on the CPU); its
+// BVH, schedule and path are the variants of RenderOptions' gpu axes.
 // Spheres live in a storage buffer, camera, light and sizes go as push
 // constants every frame, the shader writes an rgba8 storage image, and
 // Present copies that into the present image. Vulkan stays out of this
@@ -35,6 +36,8 @@ class GPURenderer final : public Renderer {
   void present() override;
   void readPresented(Image& target) override;
   [[nodiscard]] std::optional<double> lastGpuMs() const override { return gpuMs_; }
+  // --counters: the shader's tallies of the last frame (all its dispatches).
+  [[nodiscard]] std::optional<LaneCounters> lastCounters() const override { return counters_; }
 
  private:
   struct DeviceObjects;
@@ -47,6 +50,7 @@ class GPURenderer final : public Renderer {
   std::unique_ptr<DeviceObjects> device_;
   std::unique_ptr<SceneObjects> scene_;
   std::optional<double> gpuMs_;
+  std::optional<LaneCounters> counters_;
 };
 
 }  // namespace rt::gpu

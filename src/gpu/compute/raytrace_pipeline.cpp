@@ -9,34 +9,45 @@
 namespace rt::gpu {
 namespace {
 
-constexpr vk::DescriptorSetLayoutBinding storageBufferBinding(std::uint32_t binding) {
-  return {.binding = binding,
-          .descriptorType = vk::DescriptorType::eStorageBuffer,
-          .descriptorCount = 1,
-          .stageFlags = vk::ShaderStageFlagBits::eCompute};
-}
+// Every binding but the output image is a storage buffer, in SceneBuffers' order.
+constexpr std::array<std::uint32_t, 11> kStorageBufferSlots{
+    RT_BINDING_SPHERES,    RT_BINDING_BVH_NODES, RT_BINDING_BVH_ORDER,  RT_BINDING_WIDE_NODES,
+    RT_BINDING_WIDE_INDEX, RT_BINDING_COUNTERS,  RT_BINDING_QUEUE_EVEN, RT_BINDING_QUEUE_ODD,
+    RT_BINDING_PATH_STATE, RT_BINDING_SEGMENTS,  RT_BINDING_CONTROL};
+constexpr std::uint32_t kStorageBufferBindings = kStorageBufferSlots.size();
+static_assert(sizeof(SceneBuffers) == kStorageBufferBindings * sizeof(vk::Buffer));
 
-constexpr std::array<vk::DescriptorSetLayoutBinding, 4> kBindings{{
-    storageBufferBinding(RT_BINDING_SPHERES),
-    {.binding = RT_BINDING_OUTPUT,
-     .descriptorType = vk::DescriptorType::eStorageImage,
-     .descriptorCount = 1,
-     .stageFlags = vk::ShaderStageFlagBits::eCompute},
-    storageBufferBinding(RT_BINDING_BVH_NODES),
-    storageBufferBinding(RT_BINDING_BVH_ORDER),
-}};
-constexpr std::uint32_t kStorageBufferBindings = 3;
+constexpr std::array<vk::DescriptorSetLayoutBinding, kStorageBufferBindings + 1> bindings() {
+  std::array<vk::DescriptorSetLayoutBinding, kStorageBufferBindings + 1> all{};
+  for (std::size_t i = 0; i < kStorageBufferBindings; ++i) {
+    all[i] = {.binding = kStorageBufferSlots[i],
+              .descriptorType = vk::DescriptorType::eStorageBuffer,
+              .descriptorCount = 1,
+              .stageFlags = vk::ShaderStageFlagBits::eCompute};
+  }
+  all.back() = {.binding = RT_BINDING_OUTPUT,
+                .descriptorType = vk::DescriptorType::eStorageImage,
+                .descriptorCount = 1,
+                .stageFlags = vk::ShaderStageFlagBits::eCompute};
+  return all;
+}
+constexpr auto kBindings = bindings();
 
 constexpr vk::PushConstantRange kPushConstants{
     .stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = sizeof(FrameConstants)};
 
-constexpr std::array<vk::SpecializationMapEntry, 6> kSpecializationEntries{{
+constexpr std::array<vk::SpecializationMapEntry, 11> kSpecializationEntries{{
     {RT_SPEC_TWO_PASS, offsetof(SpecializationConstants, twoPass), sizeof(std::uint32_t)},
     {RT_SPEC_BOUNCE_EXIT, offsetof(SpecializationConstants, bounceExit), sizeof(std::uint32_t)},
     {RT_SPEC_MAX_DEPTH, offsetof(SpecializationConstants, maxDepth), sizeof(std::int32_t)},
     {RT_SPEC_USE_BVH, offsetof(SpecializationConstants, useBvh), sizeof(std::uint32_t)},
     {RT_SPEC_BVH_MAX_RADIUS, offsetof(SpecializationConstants, bvhMaxRadius), sizeof(float)},
     {RT_SPEC_BVH_MAX_COORDINATE, offsetof(SpecializationConstants, bvhMaxCoordinate), sizeof(float)},
+    {RT_SPEC_WIDE_BVH, offsetof(SpecializationConstants, wideBvh), sizeof(std::uint32_t)},
+    {RT_SPEC_WIDE_STACK_SIZE, offsetof(SpecializationConstants, wideStackSize), sizeof(std::int32_t)},
+    {RT_SPEC_PERSISTENT, offsetof(SpecializationConstants, persistent), sizeof(std::uint32_t)},
+    {RT_SPEC_STAGE, offsetof(SpecializationConstants, stage), sizeof(std::int32_t)},
+    {RT_SPEC_COUNTERS, offsetof(SpecializationConstants, counters), sizeof(std::uint32_t)},
 }};
 
 vk::raii::DescriptorSetLayout createSetLayout(const Device& device) {
@@ -55,11 +66,7 @@ vk::raii::PipelineLayout createPipelineLayout(const Device& device, const vk::ra
 }
 
 vk::raii::Pipeline createPipeline(const Device& device, const vk::raii::PipelineLayout& layout,
-                                  const SpecializationConstants& constants) {
-  const std::span<const std::uint32_t> code = raytraceSpirv();
-  // Only needed while the pipeline is built.
-  const vk::raii::ShaderModule module(device.logical(),
-                                      vk::ShaderModuleCreateInfo{.codeSize = code.size_bytes(), .pCode = code.data()});
+                                  const vk::raii::ShaderModule& module, const SpecializationConstants& constants) {
   const vk::SpecializationInfo specialization{.mapEntryCount = kSpecializationEntries.size(),
                                               .pMapEntries = kSpecializationEntries.data(),
                                               .dataSize = sizeof constants,
@@ -76,16 +83,29 @@ vk::raii::Pipeline createPipeline(const Device& device, const vk::raii::Pipeline
 
 std::span<const std::uint32_t> raytraceSpirv() { return rt_raytrace_spirv; }
 
-RaytracePipeline::RaytracePipeline(const Device& device, const SpecializationConstants& constants)
-    : setLayout_(createSetLayout(device)),
-      layout_(createPipelineLayout(device, setLayout_)),
-      pipeline_(createPipeline(device, layout_, constants)) {}
+RaytracePipeline::RaytracePipeline(const Device& device, SpecializationConstants constants,
+                                   std::span<const RaytraceStage> stages)
+    : setLayout_(createSetLayout(device)), layout_(createPipelineLayout(device, setLayout_)) {
+  const std::span<const std::uint32_t> code = raytraceSpirv();
+  // Only needed while the pipelines are built.
+  const vk::raii::ShaderModule module(device.logical(),
+                                      vk::ShaderModuleCreateInfo{.codeSize = code.size_bytes(), .pCode = code.data()});
+  for (const RaytraceStage stage : stages) {
+    constants.stage = static_cast<std::int32_t>(stage);
+    pipelines_.at(static_cast<std::size_t>(stage)).emplace(createPipeline(device, layout_, module, constants));
+  }
+}
 
-void RaytracePipeline::recordBind(const vk::raii::CommandBuffer& cb, vk::DescriptorSet set,
+void RaytracePipeline::recordBind(const vk::raii::CommandBuffer& cb, RaytraceStage stage, vk::DescriptorSet set,
                                   const FrameConstants& constants) const {
-  cb.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_);
+  cb.bindPipeline(vk::PipelineBindPoint::eCompute, **pipelines_.at(static_cast<std::size_t>(stage)));
   cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *layout_, 0, set, {});
   cb.pushConstants<FrameConstants>(*layout_, vk::ShaderStageFlagBits::eCompute, 0, constants);
+}
+
+void RaytracePipeline::recordWavefrontDepth(const vk::raii::CommandBuffer& cb, std::int32_t depth) const {
+  cb.pushConstants<std::int32_t>(*layout_, vk::ShaderStageFlagBits::eCompute, offsetof(FrameConstants, wavefrontDepth),
+                                 depth);
 }
 
 RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const SceneBuffers& buffers,
@@ -108,15 +128,16 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
   const auto whole = [](vk::Buffer buffer) {
     return vk::DescriptorBufferInfo{.buffer = buffer, .offset = 0, .range = VK_WHOLE_SIZE};
   };
-  const std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{
-      whole(buffers.spheres), whole(buffers.bvhNodes), whole(buffers.bvhOrder)};
-  const std::array<std::uint32_t, kStorageBufferBindings> bufferSlots{RT_BINDING_SPHERES, RT_BINDING_BVH_NODES,
-                                                                      RT_BINDING_BVH_ORDER};
+  const std::array<vk::Buffer, kStorageBufferBindings> handles{
+      buffers.spheres,   buffers.bvhNodes, buffers.bvhOrder,   buffers.wideNodes, buffers.wideIndex, buffers.counters,
+      buffers.queueEven, buffers.queueOdd, buffers.pathStates, buffers.segments,  buffers.control};
+  std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{};
+  for (std::size_t i = 0; i < kStorageBufferBindings; ++i) bufferInfos[i] = whole(handles[i]);
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};
   std::array<vk::WriteDescriptorSet, kStorageBufferBindings + 1> writes{};
   for (std::size_t i = 0; i < kStorageBufferBindings; ++i) {
     writes[i] = {.dstSet = *set_,
-                 .dstBinding = bufferSlots[i],
+                 .dstBinding = kStorageBufferSlots[i],
                  .descriptorCount = 1,
                  .descriptorType = vk::DescriptorType::eStorageBuffer,
                  .pBufferInfo = &bufferInfos[i]};

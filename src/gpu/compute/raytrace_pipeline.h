@@ -1,5 +1,7 @@
 #pragma once
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 
 #include "gpu/compute/gpu_layout.h"
@@ -17,29 +19,55 @@ constexpr std::uint32_t workgroupCount(int pixels, int groupSize) {
   return static_cast<std::uint32_t>((pixels + groupSize - 1) / groupSize);
 }
 
-// The compute pipeline of one variant (algorithm, bounce exit, maxDepth and
-// the BVH as specialization constants) with its set and pipeline layouts.
+// The stages of shaders/raytrace.comp one variant runs (RT_STAGE_*): the
+// megakernel alone, or a wavefront's depth and resolve dispatches.
+enum class RaytraceStage : std::int32_t {
+  megakernel = RT_STAGE_MEGAKERNEL,
+  wavefrontDepth = RT_STAGE_WAVEFRONT_DEPTH,
+  wavefrontResolve = RT_STAGE_WAVEFRONT_RESOLVE,
+};
+
+// The compute pipelines of one variant (algorithm, bounce exit, maxDepth,
+// the BVH, the schedule and the counters as specialization constants), one
+// per stage it runs, with their shared set and pipeline layouts.
 class RaytracePipeline {
  public:
-  RaytracePipeline(const Device& device, const SpecializationConstants& constants);
+  // Builds the pipelines of `stages` from `constants` (its stage field is set per pipeline).
+  RaytracePipeline(const Device& device, SpecializationConstants constants, std::span<const RaytraceStage> stages);
 
   [[nodiscard]] const vk::raii::DescriptorSetLayout& setLayout() const { return setLayout_; }
-  // Binds the pipeline and `set`, and pushes this frame's constants.
-  void recordBind(const vk::raii::CommandBuffer& cb, vk::DescriptorSet set, const FrameConstants& constants) const;
+  // Binds the pipeline of `stage` and `set`, and pushes this frame's constants.
+  void recordBind(const vk::raii::CommandBuffer& cb, RaytraceStage stage, vk::DescriptorSet set,
+                  const FrameConstants& constants) const;
+  // Pushes the bounce depth of the wavefront dispatch that follows.
+  void recordWavefrontDepth(const vk::raii::CommandBuffer& cb, std::int32_t depth) const;
 
  private:
   vk::raii::DescriptorSetLayout setLayout_;
   vk::raii::PipelineLayout layout_;
-  vk::raii::Pipeline pipeline_;
+  std::array<std::optional<vk::raii::Pipeline>, 3> pipelines_;  // by RaytraceStage
 };
 
-// The storage buffers the shader reads. Without a BVH its two slots name
-// the sphere buffer: a descriptor must point at a live buffer, and that
-// pipeline never reads them.
+// The storage buffers the shader reads and writes. Slots a variant does not
+// use name the sphere buffer: a descriptor must point at a live buffer, and
+// that variant never touches them.
 struct SceneBuffers {
   vk::Buffer spheres;
   vk::Buffer bvhNodes;
   vk::Buffer bvhOrder;
+  vk::Buffer wideNodes;
+  vk::Buffer wideIndex;
+  vk::Buffer counters;
+  vk::Buffer queueEven;
+  vk::Buffer queueOdd;
+  vk::Buffer pathStates;
+  vk::Buffer segments;
+  vk::Buffer control;
+
+  // Every slot naming `spheres`, for the others to be set.
+  static SceneBuffers allSpheres(vk::Buffer spheres) {
+    return {spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres};
+  }
 };
 
 // The descriptor set that binds the scene's buffers and an output image.

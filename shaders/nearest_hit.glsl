@@ -1,0 +1,311 @@
+// The nearest-hit query of docs/render-model.md section 3 for the GPU
+// renderer, by brute force or by one of the two BVHs (--gpu-bvh), and the
+// --counters tallies of each search: included by raytrace.comp after
+// render_model.glsl. Every way gives the nearest hit of brute force, ties to
+// the lower index (docs/render-model.md section 3, "How the GPU renderer
+// walks the BVH").
+
+// Counters (--counters; compiled out without) ================================================
+// Each invocation tallies its own work; the subgroup's lane slots are
+// tallied once per search by one invocation (the subgroup runs a loop as
+// often as its busiest invocation). flushCounters() adds the tallies to the
+// counter buffer once per invocation, subgroup-reduced.
+uint searchNodes;    // of the search under way
+uint searchSpheres;
+uint tallyRays[MAX_DEPTH];
+uint tallyNodeVisits = 0u;
+uint tallyNodeLaneSlots = 0u;
+uint tallySphereTests = 0u;
+uint tallySphereLaneSlots = 0u;
+uint tallyShadeLaneSlots = 0u;
+uint tallyShadeLanesActive = 0u;
+
+void beginCounting() {
+  if (!COUNTERS) return;
+  for (int d = 0; d < MAX_DEPTH; ++d) tallyRays[d] = 0u;
+}
+
+void beginSearch() {
+  searchNodes = 0u;
+  searchSpheres = 0u;
+}
+
+// One search at bounce `depth` has ended; `hit`: the ray found a sphere and is shaded.
+void endSearch(int depth, bool hit) {
+  if (!COUNTERS) return;
+  tallyRays[depth] += 1u;
+  tallyNodeVisits += searchNodes;
+  tallySphereTests += searchSpheres;
+  if (hit) tallyShadeLanesActive += 1u;
+  uint busiestNodes = subgroupMax(searchNodes);
+  uint busiestSpheres = subgroupMax(searchSpheres);
+  if (subgroupElect()) {
+    tallyNodeLaneSlots += busiestNodes * gl_SubgroupSize;
+    tallySphereLaneSlots += busiestSpheres * gl_SubgroupSize;
+    tallyShadeLaneSlots += gl_SubgroupSize;
+  }
+}
+
+// Adds the subgroup's sum of `value` to 64-bit counter `slot` of this
+// workgroup's copy. The sum is taken in 16-bit halves so that it cannot
+// overflow 32 bits; the low word's carry goes into the high word.
+void addToCounter(uint slot, uint value) {
+  uint lowSum = subgroupAdd(value & 0xffffu);
+  uint highSum = subgroupAdd(value >> 16);
+  if (!subgroupElect() || (lowSum | highSum) == 0u) return;
+  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  uint at = ((group % uint(RT_COUNTER_COPIES)) * uint(RT_COUNTER_SLOTS) + slot) * 2u;
+  uint low = (highSum << 16) + lowSum;
+  uint high = (highSum >> 16) + (low < lowSum ? 1u : 0u);
+  uint before = atomicAdd(counterWords[at], low);
+  high += (before + low < before) ? 1u : 0u;
+  if (high != 0u) atomicAdd(counterWords[at + 1u], high);
+}
+
+// Once per invocation, where its subgroup has reconverged.
+void flushCounters() {
+  if (!COUNTERS) return;
+  for (int d = 0; d < MAX_DEPTH; ++d) addToCounter(uint(d), tallyRays[d]);
+  addToCounter(RT_COUNTER_NODE_VISITS, tallyNodeVisits);
+  addToCounter(RT_COUNTER_NODE_LANE_SLOTS, tallyNodeLaneSlots);
+  addToCounter(RT_COUNTER_SPHERE_TESTS, tallySphereTests);
+  addToCounter(RT_COUNTER_SPHERE_LANE_SLOTS, tallySphereLaneSlots);
+  addToCounter(RT_COUNTER_SHADE_LANE_SLOTS, tallyShadeLaneSlots);
+  addToCounter(RT_COUNTER_SHADE_LANES_ACTIVE, tallyShadeLanesActive);
+}
+
+// Brute force ================================================================================
+// Brute force: the nearest hit over all spheres; on an exact tie the lower index wins.
+RaycastHit nearestHitOfAll(Ray ray) {
+  float best = 1.0 / 0.0;  // +infinity
+  int bestIndex = -1;
+  for (uint i = 0u; i < pc.sphereCount; ++i) {
+    float t = intersectSphere(ray, spheres[i].positionRadius);
+    if (COUNTERS) ++searchSpheres;
+    if (t > EPS && t < best) {
+      best = t;
+      bestIndex = int(i);
+    }
+  }
+  return hitRecord(ray, best, bestIndex);
+}
+
+
+// The binary BVH (--gpu-bvh binary) ==========================================================
+
+// rt::traversalPad (src/render/accel/bvh.h) for this ray's origin: how far
+// a box is widened, in space and along the ray, so that no sphere the float
+// test reports a hit on is culled with its box.
+float traversalPad(vec3 origin) {
+  vec3 a = abs(origin);
+  float scale = max(max(a.x, a.y), a.z) + BVH_MAX_COORDINATE;
+  return float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * sqrt(BVH_MAX_RADIUS * scale) +
+         float(RT_BVH_PAD_RADIUS) * BVH_MAX_RADIUS + float(RT_BVH_PAD_MIN);
+}
+
+// 1 / direction, with a zero component made tiny (sign kept, -0 included),
+// so that the slab test never computes 0 * infinity, and Vulkan's division
+// stays inside the range where its precision is defined.
+vec3 inverseDirection(vec3 d) {
+  const float tiny = 1e-30;
+  uvec3 signs = floatBitsToUint(d) & 0x80000000u;
+  vec3 signedTiny = uintBitsToFloat(signs | floatBitsToUint(tiny));
+  return 1.0 / mix(d, signedTiny, lessThan(abs(d), vec3(tiny)));
+}
+
+// Whether the ray may meet a sphere inside the node's box, widened by
+// `pad`, nearer than `best` (+ pad): the CPU kernels' slab test.
+bool boxReachable(GPUBvhNode node, Ray ray, vec3 inverse, float pad, float best) {
+  vec3 t0 = (uintBitsToFloat(node.loFirst.xyz) - pad - ray.origin) * inverse;
+  vec3 t1 = (uintBitsToFloat(node.hiMeta.xyz) + pad - ray.origin) * inverse;
+  vec3 near = min(t0, t1);
+  vec3 far = max(t0, t1);
+  float tmin = max(max(near.x, near.y), near.z);
+  float tmax = min(min(far.x, far.y), far.z);
+  return tmin <= tmax && tmax >= -pad && tmin <= best + pad;
+}
+
+// With the BVH: the same nearest hit as brute force. The same
+// intersectSphere gives each sphere the same t; spheres come in tree order,
+// so an exact tie is settled by the index rather than by the visit order.
+// Near child first, a fixed stack: a node pops before its two children
+// push, so depth + 1 entries suffice.
+RaycastHit nearestHitInBvh(Ray ray) {
+  vec3 inverse = inverseDirection(ray.direction);
+  float pad = traversalPad(ray.origin);
+  float best = 1.0 / 0.0;  // +infinity
+  int bestIndex = -1;
+  uint stack[RT_BVH_MAX_DEPTH + 2];
+  int top = 0;
+  stack[top++] = 0u;
+  while (top > 0) {
+    GPUBvhNode node = bvhNodes[stack[--top]];
+    if (COUNTERS) ++searchNodes;
+    if (!boxReachable(node, ray, inverse, pad, best)) continue;
+    uint first = node.loFirst.w;
+    uint count = node.hiMeta.w & RT_BVH_COUNT_MASK;
+    if (count == 0u) {
+      bool negative = ray.direction[node.hiMeta.w >> 30] < 0.0;
+      stack[top++] = first + (negative ? 0u : 1u);  // far child
+      stack[top++] = first + (negative ? 1u : 0u);  // near child, visited next
+      continue;
+    }
+    for (uint k = first; k < first + count; ++k) {
+      int index = int(bvhOrder[k]);
+      if (COUNTERS) ++searchSpheres;
+      float t = intersectSphere(ray, spheres[index].positionRadius);
+      if (t > EPS && (t < best || (t == best && index < bestIndex))) {
+        best = t;
+        bestIndex = index;
+      }
+    }
+  }
+  return hitRecord(ray, best, bestIndex);
+}
+
+
+// The wide BVH (--gpu-bvh wide) ==============================================================
+// rt::WideBvh (src/render/accel/wide_bvh.h) as the single traversal of the
+// SIMD kernel walks it: a 256-byte node holds the boxes of up to eight
+// children by plane (lo x, y, z, hi x, y, z; 8 floats each), then their
+// child words (rt::WideChild), then the child count. Read as 16 vec4s.
+const uint WIDE_NODE_VEC4S = 16u;
+const uint WIDE_CHILD_WORDS = 12u;  // the vec4s holding the child words
+const uint WIDE_CHILD_COUNT = 14u;  // the vec4 whose x holds the child count
+const uint WIDE_LEAF_BIT = 0x80000000u;
+const uint WIDE_BLOCK_MASK = 0x0fffffffu;
+const uint WIDE_WIDTH = 8u;
+
+// The search's state, kept outside the functions so that they share it
+// without copying the stack: the nearest hit so far and the stack of
+// children still to visit with the distance at which the ray enters each.
+float wideBest;
+int wideBestIndex;
+uint wideStackChild[WIDE_STACK_SIZE];
+float wideStackEntry[WIDE_STACK_SIZE];
+int wideStackTop;
+
+// A leaf: its spheres, the scene's indices in rt::WideBvh::index, in one
+// loop; the tie rule makes the result independent of the visit order.
+void testWideLeaf(Ray ray, uint child) {
+  uint first = (child & WIDE_BLOCK_MASK) * WIDE_WIDTH;
+  uint count = ((child >> 28) & 7u) + 1u;
+  for (uint k = first; k < first + count; ++k) {
+    int index = wideIndex[k];
+    float t = intersectSphere(ray, spheres[index].positionRadius);
+    if (t > EPS && (t < wideBest || (t == wideBest && index < wideBestIndex))) {
+      wideBest = t;
+      wideBestIndex = index;
+    }
+  }
+  if (COUNTERS) searchSpheres += count;
+}
+
+// Pushes a child the ray reaches, farther ones deeper among those the same
+// node pushed (from `firstPushed`), so that nearer ones pop first.
+void pushWideChild(uint child, float entry, int firstPushed) {
+  int at = wideStackTop++;
+  while (at > firstPushed && wideStackEntry[at - 1] < entry) {
+    wideStackChild[at] = wideStackChild[at - 1];
+    wideStackEntry[at] = wideStackEntry[at - 1];
+    --at;
+  }
+  wideStackChild[at] = child;
+  wideStackEntry[at] = entry;
+}
+
+// The slab test of four children's boxes (one vec4 per plane), widened by
+// `pad` as boxReachable() widens a binary node's: which of them the ray may
+// meet nearer than the best hit + pad, and where it enters each.
+bvec4 wideBoxesReachable(uint base, uint upper, Ray ray, vec3 inverse, float pad, out vec4 entry) {
+  vec4 t0x = (wideNodes[base + 0u + upper] - pad - ray.origin.x) * inverse.x;
+  vec4 t0y = (wideNodes[base + 2u + upper] - pad - ray.origin.y) * inverse.y;
+  vec4 t0z = (wideNodes[base + 4u + upper] - pad - ray.origin.z) * inverse.z;
+  vec4 t1x = (wideNodes[base + 6u + upper] + pad - ray.origin.x) * inverse.x;
+  vec4 t1y = (wideNodes[base + 8u + upper] + pad - ray.origin.y) * inverse.y;
+  vec4 t1z = (wideNodes[base + 10u + upper] + pad - ray.origin.z) * inverse.z;
+  entry = max(max(min(t0x, t1x), min(t0y, t1y)), min(t0z, t1z));
+  vec4 leave = min(min(max(t0x, t1x), max(t0y, t1y)), max(t0z, t1z));
+  uvec4 reach = uvec4(lessThanEqual(entry, leave)) * uvec4(greaterThanEqual(leave, vec4(-pad))) *
+                uvec4(lessThanEqual(entry, vec4(wideBest + pad)));
+  return equal(reach, uvec4(1u));
+}
+
+// One child slot of the node being visited: the nearest child reached goes
+// on as `next`, the others onto the stack. Slots past the node's child count
+// hold an empty box (lo +inf, hi -inf), which the min/max slab test would
+// not reject, so they are skipped by the count.
+void considerWideChild(bool reach, float entry, uint slot, uint base, uint childCount, int firstPushed,
+                       inout uint next, inout float nextEntry) {
+  if (!reach || slot >= childCount) return;
+  uint child = floatBitsToUint(wideNodes[base + WIDE_CHILD_WORDS + slot / 4u][slot % 4u]);
+  if (entry < nextEntry) {
+    if (nextEntry != 1.0 / 0.0) pushWideChild(next, nextEntry, firstPushed);
+    next = child;
+    nextEntry = entry;
+  } else {
+    pushWideChild(child, entry, firstPushed);
+  }
+}
+
+// Visits inner node `node`: tests its eight boxes at once (two vec4s per
+// plane) and returns whether a child goes on as `next`.
+bool visitWideNode(uint node, Ray ray, vec3 inverse, float pad, out uint next) {
+  if (COUNTERS) ++searchNodes;
+  uint base = node * WIDE_NODE_VEC4S;
+  uint childCount = floatBitsToUint(wideNodes[base + WIDE_CHILD_COUNT].x);
+  vec4 entryLow, entryHigh;
+  bvec4 low = wideBoxesReachable(base, 0u, ray, inverse, pad, entryLow);
+  bvec4 high = wideBoxesReachable(base, 1u, ray, inverse, pad, entryHigh);
+  int firstPushed = wideStackTop;
+  float nextEntry = 1.0 / 0.0;
+  next = 0u;
+  for (uint i = 0u; i < 4u; ++i) {
+    considerWideChild(low[i], entryLow[i], i, base, childCount, firstPushed, next, nextEntry);
+    considerWideChild(high[i], entryHigh[i], i + 4u, base, childCount, firstPushed, next, nextEntry);
+  }
+  return nextEntry != 1.0 / 0.0;
+}
+
+// The next child on the stack the ray may still meet nearer than the best
+// hit (+ pad), or false when none is left.
+bool popWideChild(float pad, out uint child) {
+  while (wideStackTop > 0) {
+    --wideStackTop;
+    if (wideStackEntry[wideStackTop] <= wideBest + pad) {
+      child = wideStackChild[wideStackTop];
+      return true;
+    }
+  }
+  child = 0u;
+  return false;
+}
+
+// With the wide BVH: the nearest hit of brute force, as nearestHitInBvh()
+// argues. The stack holds at most seven children per level below the root
+// (WIDE_STACK_SIZE, from the tree's depth).
+RaycastHit nearestHitInWideBvh(Ray ray) {
+  vec3 inverse = inverseDirection(ray.direction);
+  float pad = traversalPad(ray.origin);
+  wideBest = 1.0 / 0.0;  // +infinity
+  wideBestIndex = -1;
+  wideStackTop = 0;
+  uint current = 0u;  // the root, an inner node
+  bool haveCurrent = true;
+  while (haveCurrent || popWideChild(pad, current)) {
+    if ((current & WIDE_LEAF_BIT) != 0u) {
+      testWideLeaf(ray, current);
+      haveCurrent = false;
+    } else {
+      haveCurrent = visitWideNode(current, ray, inverse, pad, current);
+    }
+  }
+  return hitRecord(ray, wideBest, wideBestIndex);
+}
+
+// The one spatial query of the shader; the variant is fixed per pipeline.
+RaycastHit nearestHit(Ray ray) {
+  beginSearch();
+  if (!USE_BVH) return nearestHitOfAll(ray);
+  return WIDE_BVH ? nearestHitInWideBvh(ray) : nearestHitInBvh(ray);
+}

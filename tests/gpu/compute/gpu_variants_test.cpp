@@ -1,0 +1,204 @@
+// The GPU renderer's traversal axes (docs/render-model.md section 3, "How
+// the GPU renderer walks the BVH"): every BVH, schedule and path gives the
+// bytes of the brute-force megakernel, for both algorithms, with and without
+// the bounce exit, on the committed scenes and the scenes built to break a
+// traversal; and the shader's counters agree across variants and with what
+// the frame must have traced. All under validation.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "gpu/compute/gpu_renderer.h"
+#include "gpu/gpu_test_support.h"
+#include "render/accel/accel_scenes.h"
+#include "test_support.h"
+
+namespace rt::test {
+namespace {
+
+constexpr long long kFrame = 25;
+
+struct GpuVariant {
+  Accel accel;
+  GpuBvh bvh;
+  GpuSchedule schedule;
+  GpuPath path;
+};
+
+std::string nameOf(const GpuVariant& v) {
+  std::string name(rt::nameOf(v.accel));
+  if (v.accel == Accel::bvh) name += "/" + std::string(rt::nameOf(v.bvh));
+  return name + "/" + std::string(rt::nameOf(v.schedule)) + "/" + std::string(rt::nameOf(v.path));
+}
+
+// Every combination of the axes but the reference itself (brute force, one
+// invocation per pixel, megakernel).
+std::vector<GpuVariant> allVariants() {
+  std::vector<GpuVariant> variants;
+  for (const GpuSchedule schedule : {GpuSchedule::pixel, GpuSchedule::persistent}) {
+    for (const GpuPath path : {GpuPath::megakernel, GpuPath::wavefront}) {
+      if (schedule != GpuSchedule::pixel || path != GpuPath::megakernel)
+        variants.push_back({Accel::none, GpuBvh::binary, schedule, path});
+      for (const GpuBvh bvh : {GpuBvh::binary, GpuBvh::wide}) variants.push_back({Accel::bvh, bvh, schedule, path});
+    }
+  }
+  return variants;
+}
+
+RenderOptions withVariant(RenderOptions options, const GpuVariant& v) {
+  options.accel = v.accel;
+  options.gpuBvh = v.bvh;
+  options.gpuSchedule = v.schedule;
+  options.gpuPath = v.path;
+  return options;
+}
+
+// The thesis' stages original (two-pass, no exit) and optimized
+// (single-pass, with the exits): both algorithms and both bounce settings.
+std::vector<RenderOptions> algorithmsAndExits() {
+  return {optionsForStage(Stage::original), optionsForStage(Stage::optimized)};
+}
+
+std::string describeOptions(const RenderOptions& o) {
+  return std::string(rt::nameOf(o.algorithm)) + " exits " + o.earlyExits.toString();
+}
+
+Image renderWith(gpu::GPURenderer& gpu, const Scene& scene, Extent extent, const RenderOptions& options) {
+  gpu.prepare(scene, extent, options);
+  gpu.render(cameraAtFrame(scene.camera, kFrame));
+  gpu.present();
+  Image out(extent);
+  gpu.readPresented(out);
+  return out;
+}
+
+void expectEveryVariantMatchesBruteForce(const Scene& scene, Extent extent, const std::string& label) {
+  gpu::GPURenderer gpu(ValidatedGpuEnvironment::context(), PresentMode::upload);
+  for (const RenderOptions& base : algorithmsAndExits()) {
+    const Image reference = renderWith(gpu, scene, extent, base);
+    for (const GpuVariant& variant : allVariants()) {
+      const Image image = renderWith(gpu, scene, extent, withVariant(base, variant));
+      EXPECT_TRUE(std::ranges::equal(reference.pixels(), image.pixels()))
+          << label << " " << extent.width << "x" << extent.height << " " << describeOptions(base) << " "
+          << nameOf(variant);
+    }
+  }
+}
+
+class GpuVariants : public ValidatedGpuTest {};
+
+// An odd size leaves partial tiles, which have ray numbers but no pixels.
+TEST_F(GpuVariants, CommittedScenesAreByteIdenticalToBruteForce) {
+  for (const char* name : kSceneNames) expectEveryVariantMatchesBruteForce(loadNamedScene(name), {45, 29}, name);
+}
+
+// Exact ties, nested and touching spheres, a camera inside a huge sphere,
+// a thousand spheres for a deep tree (tests/render/accel/accel_scenes.h).
+TEST_F(GpuVariants, ScenesBuiltToBreakATraversalAreByteIdenticalToBruteForce) {
+  for (const auto& [name, scene] : adversarialScenes()) expectEveryVariantMatchesBruteForce(scene, {37, 21}, name);
+}
+
+// Counters ====================================================================================
+
+LaneCounters countWith(gpu::GPURenderer& gpu, const Scene& scene, Extent extent, const RenderOptions& options) {
+  RenderOptions counting = options;
+  counting.counters = true;
+  renderWith(gpu, scene, extent, counting);
+  const std::optional<LaneCounters> counters = gpu.lastCounters();
+  if (!counters) throw std::logic_error("no counters with --counters");
+  return *counters;
+}
+
+TEST_F(GpuVariants, CountersAreOffByDefault) {
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  renderWith(gpu, loadNamedScene("default"), {16, 16}, optionsForStage(Stage::optimized));
+  EXPECT_FALSE(gpu.lastCounters().has_value());
+}
+
+// Every variant traces the same rays at every depth; brute force tests
+// every sphere for each; a BVH's walk visits the same nodes whatever the
+// schedule and path; the primary rays are one per pixel.
+TEST_F(GpuVariants, CountersAgreeAcrossSchedulesAndPaths) {
+  const Scene scene = loadNamedScene("random100");
+  const Extent extent{45, 29};
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  for (const RenderOptions& base : algorithmsAndExits()) {
+    const LaneCounters reference = countWith(gpu, scene, extent, base);
+    EXPECT_EQ(reference.raysPerDepth[0], static_cast<std::uint64_t>(extent.width) * extent.height);
+    EXPECT_EQ(reference.sphereTests, reference.rays() * scene.spheres.size());
+    EXPECT_EQ(reference.nodeVisits, 0u);
+    EXPECT_EQ(reference.deepestDepth(), scene.render.maxDepth) << "the scene's rays bounce to the last depth";
+    if (!base.earlyExits.has(EarlyExit::bounce)) {
+      EXPECT_EQ(reference.rays(), reference.raysPerDepth[0] * static_cast<std::uint64_t>(scene.render.maxDepth))
+          << "without the bounce exit every path runs to maxDepth";
+    }
+    std::vector<std::pair<GpuVariant, LaneCounters>> byBvh;
+    for (const GpuVariant& variant : allVariants()) {
+      const LaneCounters counted = countWith(gpu, scene, extent, withVariant(base, variant));
+      const std::string label = describeOptions(base) + " " + nameOf(variant);
+      EXPECT_EQ(counted.raysPerDepth, reference.raysPerDepth) << label;
+      EXPECT_EQ(counted.shadeLanesActive, reference.shadeLanesActive) << label;
+      EXPECT_GE(counted.shadeLaneSlots, counted.shadeLanesActive) << label;
+      EXPECT_GE(counted.nodeLaneSlots, counted.nodeVisits) << label;
+      EXPECT_GE(counted.sphereLaneSlots, counted.sphereTests) << label;
+      if (variant.accel == Accel::none) {
+        EXPECT_EQ(counted.sphereTests, reference.sphereTests) << label;
+        continue;
+      }
+      EXPECT_GT(counted.nodeVisits, 0u) << label;
+      EXPECT_LT(counted.sphereTests, reference.sphereTests) << label << ": the BVH tests fewer spheres";
+      for (const auto& [other, otherCounts] : byBvh) {
+        if (other.bvh != variant.bvh) continue;
+        EXPECT_EQ(counted.nodeVisits, otherCounts.nodeVisits) << label << " against " << nameOf(other);
+        EXPECT_EQ(counted.sphereTests, otherCounts.sphereTests) << label << " against " << nameOf(other);
+      }
+      byBvh.emplace_back(variant, counted);
+    }
+  }
+}
+
+// The wide walk visits fewer nodes than the binary one (eight boxes a visit).
+TEST_F(GpuVariants, TheWideBvhVisitsFewerNodes) {
+  const Scene scene = loadNamedScene("random100");
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  RenderOptions options = optionsForStage(Stage::optimized);
+  options.accel = Accel::bvh;
+  const LaneCounters binary = countWith(gpu, scene, {45, 29}, options);
+  options.gpuBvh = GpuBvh::wide;
+  const LaneCounters wide = countWith(gpu, scene, {45, 29}, options);
+  EXPECT_LT(wide.nodeVisits, binary.nodeVisits);
+}
+
+// Per-bounce wavefronts keep the subgroups full: the shading steps of the
+// later bounces waste fewer lanes than the megakernel's, whose dead paths
+// idle in their subgroup.
+TEST_F(GpuVariants, WavefrontsFillMoreShadingLanesThanTheMegakernel) {
+  const Scene scene = loadNamedScene("random100");
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  RenderOptions options = optionsForStage(Stage::optimized);
+  const LaneCounters megakernel = countWith(gpu, scene, {64, 64}, options);
+  options.gpuPath = GpuPath::wavefront;
+  const LaneCounters wavefront = countWith(gpu, scene, {64, 64}, options);
+  EXPECT_LT(wavefront.shadeLaneSlots, megakernel.shadeLaneSlots);
+  EXPECT_EQ(wavefront.shadeLanesActive, megakernel.shadeLanesActive);
+}
+
+TEST_F(GpuVariants, ReportsItsAxesAfterPrepare) {
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  RenderOptions options = optionsForStage(Stage::optimized);
+  options.gpuSchedule = GpuSchedule::persistent;
+  options.gpuPath = GpuPath::wavefront;
+  renderWith(gpu, loadNamedScene("default"), {16, 16}, options);
+  EXPECT_FALSE(gpu.info().gpuBvh.has_value()) << "no BVH with accel none";
+  EXPECT_EQ(gpu.info().gpuSchedule, GpuSchedule::persistent);
+  EXPECT_EQ(gpu.info().gpuPath, GpuPath::wavefront);
+  options.accel = Accel::bvh;
+  options.gpuBvh = GpuBvh::wide;
+  renderWith(gpu, loadNamedScene("default"), {16, 16}, options);
+  EXPECT_EQ(gpu.info().gpuBvh, GpuBvh::wide);
+}
+
+}  // namespace
+}  // namespace rt::test
