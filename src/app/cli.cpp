@@ -6,6 +6,7 @@
 #include <charconv>
 #include <concepts>
 #include <sstream>
+#include <utility>
 
 #include "app/build_info.h"
 
@@ -68,6 +69,7 @@ struct RawOptions {
   int hybridThreshold = RenderOptions::kDefaultHybridThreshold;
   CLI::Option* hybridThresholdOption = nullptr;
   bool counters = false;
+  std::string gpuBvh, gpuSchedule, gpuPath;
   std::string lanes = "native";
   std::string partition;
   std::string csv, meta, present;
@@ -103,12 +105,22 @@ std::string flagsAccepting(RendererOption option) {
   return flagsOf([option](const schema::RendererDefinition& d) { return d.accepts(option); });
 }
 
-// The renderers of the SIMD kernel: the only ones with a traversal axis and counters.
+// The renderers of the SIMD kernel: the only ones with a traversal axis.
 bool hasSimdKernel(RendererKind kind) { return definitionOf(kind).kernel == Kernel::simd; }
 
 std::string simdKernelFlags() {
   return flagsOf([](const schema::RendererDefinition& d) { return d.kernel == Kernel::simd; });
 }
+
+// The renderers that fill Renderer::lastCounters(): the SIMD kernel's and
+// the GPU renderer (schema frame_csv: the counter columns say what each counts).
+bool counts(const schema::RendererDefinition& d) {
+  return d.kernel == Kernel::simd || &d == &definitionOf(RendererKind::gpu);
+}
+
+std::string countingFlags() { return flagsOf(counts); }
+
+std::string gpuFlag() { return std::string(definitionOf(RendererKind::gpu).flag); }
 
 // The renderer options only mean something to the renderers whose schema
 // row lists them; a run that recorded a setting its renderer ignored would
@@ -193,9 +205,27 @@ void addTraversalOptions(CLI::App& app, RawOptions& raw) {
           ->check(positiveInteger())
           ->default_str("the kernel's");
   app.add_flag("--counters", raw.counters,
-               simdKernelFlags() +
+               countingFlags() +
                    ": count rays per bounce depth, BVH node visits, sphere tests and lane occupancy per frame (CSV "
                    "columns, metadata lane_counters)");
+}
+
+// The GPU renderer's traversal axes (schema: gpu_bvhs, gpu_schedules, gpu_paths).
+void addGpuOptions(CLI::App& app, RawOptions& raw) {
+  const RenderOptions defaults;
+  app.add_option("--gpu-bvh", raw.gpuBvh,
+                 "which BVH the GPU renderer's shader walks (" + gpuFlag() + " with --accel bvh): " +
+                     joinNames(schema::kGpuBvhNames, "|") + " (default " + std::string(nameOf(defaults.gpuBvh)) + ")")
+      ->check(CLI::IsMember(namesOf(schema::kGpuBvhNames)));
+  app.add_option("--gpu-schedule", raw.gpuSchedule,
+                 "how the GPU renderer's invocations get their rays (" + gpuFlag() +
+                     "): " + joinNames(schema::kGpuScheduleNames, "|") + " (default " +
+                     std::string(nameOf(defaults.gpuSchedule)) + ")")
+      ->check(CLI::IsMember(namesOf(schema::kGpuScheduleNames)));
+  app.add_option("--gpu-path", raw.gpuPath,
+                 "how the GPU renderer runs a frame, one dispatch or one per bounce depth (" + gpuFlag() + "): " +
+                     joinNames(schema::kGpuPathNames, "|") + " (default " + std::string(nameOf(defaults.gpuPath)) + ")")
+      ->check(CLI::IsMember(namesOf(schema::kGpuPathNames)));
 }
 
 void addRendererOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
@@ -286,10 +316,10 @@ void applyModelOptions(const RawOptions& raw, RunConfig& config) {
   if (!raw.present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, raw.present);
 }
 
-// The traversal axis and the counters belong to the SIMD kernel alone
-// (schema: traversals, frame_csv's counter columns); a run of another
-// renderer would record a setting it ignored. Runs after applyModelOptions,
-// which resets config.options to the stage's.
+// The traversal axis belongs to the SIMD kernel alone (schema: traversals),
+// the counters to it and the GPU renderer (frame_csv's counter columns); a
+// run of another renderer would record a setting it ignored. Runs after
+// applyModelOptions, which resets config.options to the stage's.
 void applyTraversalOptions(const RawOptions& raw, RunConfig& config) {
   const std::string renderer(nameOf(config.renderer));
   if (!raw.traversal.empty()) {
@@ -313,11 +343,40 @@ void applyTraversalOptions(const RawOptions& raw, RunConfig& config) {
     }
     config.options.hybridThreshold = raw.hybridThreshold;
   }
-  if (raw.counters && !hasSimdKernel(config.renderer)) {
-    throw CLI::ValidationError(
-        "--counters", "only the SIMD renderers (" + simdKernelFlags() + ") count; renderer " + renderer + " does not");
+  if (raw.counters && !counts(definitionOf(config.renderer))) {
+    throw CLI::ValidationError("--counters", "only the SIMD renderers and the GPU renderer (" + countingFlags() +
+                                                 ") count; renderer " + renderer + " does not");
   }
   config.options.counters = raw.counters;
+}
+
+// The GPU renderer's axes (schema: gpu_bvhs, gpu_schedules, gpu_paths) mean
+// nothing to the CPU renderers, and its BVH choice nothing without a BVH; as
+// for --traversal, a run would record a setting it ignored. Each is refused
+// there whenever it is given, its default value too. Runs after
+// applyModelOptions (config.options.accel).
+void applyGpuOptions(const RawOptions& raw, RunConfig& config) {
+  const std::pair<const char*, const std::string*> given[] = {
+      {"--gpu-bvh", &raw.gpuBvh}, {"--gpu-schedule", &raw.gpuSchedule}, {"--gpu-path", &raw.gpuPath}};
+  for (const auto& [option, value] : given) {
+    if (value->empty() || config.renderer == RendererKind::gpu) continue;
+    throw CLI::ValidationError(option, std::string(option) + " applies to the GPU renderer (" + gpuFlag() +
+                                           ") only; renderer " + std::string(nameOf(config.renderer)) +
+                                           " does not take it");
+  }
+  if (!raw.gpuBvh.empty()) {
+    if (config.options.accel != Accel::bvh) {
+      const std::string accel(nameOf(config.options.accel));
+      throw CLI::ValidationError("--gpu-bvh", "--gpu-bvh " + raw.gpuBvh +
+                                                  " chooses the BVH the shader walks: it needs --accel bvh (accel is " +
+                                                  accel + ")");
+    }
+    config.options.gpuBvh = *enumByName<GpuBvh>(schema::kGpuBvhNames, raw.gpuBvh);
+  }
+  if (!raw.gpuSchedule.empty()) {
+    config.options.gpuSchedule = *enumByName<GpuSchedule>(schema::kGpuScheduleNames, raw.gpuSchedule);
+  }
+  if (!raw.gpuPath.empty()) config.options.gpuPath = *enumByName<GpuPath>(schema::kGpuPathNames, raw.gpuPath);
 }
 
 void applyWindowOptions(const RawOptions& raw, RunConfig& config) {
@@ -385,6 +444,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   addFrameOptions(app, config);
   addModelOptions(app, raw);
   addTraversalOptions(app, raw);
+  addGpuOptions(app, raw);
   addRendererOptions(app, raw, config);
   addOutputOptions(app, raw);
   addDeviceOptions(app, raw, config);
@@ -396,6 +456,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     applyRendererChoice(raw, config);
     applyModelOptions(raw, config);
     applyTraversalOptions(raw, config);
+    applyGpuOptions(raw, config);
     applyWindowOptions(raw, config);
     applyOutputs(raw, config);
   } catch (const CLI::CallForHelp&) {

@@ -82,6 +82,15 @@ void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id,
     case FrameCsvColumn::hybrid_threshold:
       if (id.renderer.hybridThreshold) appendText(out, std::to_string(*id.renderer.hybridThreshold));
       return;
+    case FrameCsvColumn::gpu_bvh:
+      if (id.renderer.gpuBvh) appendText(out, nameOf(*id.renderer.gpuBvh));
+      return;
+    case FrameCsvColumn::gpu_schedule:
+      if (id.renderer.gpuSchedule) appendText(out, nameOf(*id.renderer.gpuSchedule));
+      return;
+    case FrameCsvColumn::gpu_path:
+      if (id.renderer.gpuPath) appendText(out, nameOf(*id.renderer.gpuPath));
+      return;
     case FrameCsvColumn::width: return appendText(out, std::to_string(id.extent.width));
     case FrameCsvColumn::height: return appendText(out, std::to_string(id.extent.height));
     case FrameCsvColumn::present: return appendText(out, nameOf(id.present));

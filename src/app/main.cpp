@@ -58,6 +58,9 @@ std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) 
          " algorithm=" + std::string(rt::nameOf(id.options.algorithm)) +
          " early_exit=" + id.options.earlyExits.toString() + " accel=" + std::string(rt::nameOf(id.options.accel)) +
          (id.renderer.traversal ? " traversal=" + std::string(rt::nameOf(*id.renderer.traversal)) : "") +
+         (id.renderer.gpuBvh ? " gpu_bvh=" + std::string(rt::nameOf(*id.renderer.gpuBvh)) : "") +
+         (id.renderer.gpuSchedule ? " gpu_schedule=" + std::string(rt::nameOf(*id.renderer.gpuSchedule)) : "") +
+         (id.renderer.gpuPath ? " gpu_path=" + std::string(rt::nameOf(*id.renderer.gpuPath)) : "") +
          (id.options.counters ? " counters" : "") + " frames=" + std::to_string(config.warmupFrames) + "+" +
          std::to_string(config.measuredFrames) + " present=" + std::string(rt::nameOf(id.present)) +
          (id.device ? " device=" + id.device->name : "");

@@ -147,6 +147,10 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
       // As in the CSV: "" where no traversal applies; the threshold null unless hybrid.
       case Key::traversal: return r.traversal ? nameOf(*r.traversal) : "";
       case Key::hybrid_threshold: return r.hybridThreshold ? nlohmann::json(*r.hybridThreshold) : nullptr;
+      // The GPU renderer's axes, as in the CSV: "" where none applies (a CPU renderer; gpu_bvh also accel none).
+      case Key::gpu_bvh: return r.gpuBvh ? nameOf(*r.gpuBvh) : "";
+      case Key::gpu_schedule: return r.gpuSchedule ? nameOf(*r.gpuSchedule) : "";
+      case Key::gpu_path: return r.gpuPath ? nameOf(*r.gpuPath) : "";
       case Key::counters: return id.options.counters;
       case Key::width: return id.extent.width;
       case Key::height: return id.extent.height;

@@ -116,13 +116,90 @@ TEST(Cli, HybridThresholdIsPositiveAndOnlyForHybrid) {
   }
 }
 
-TEST(Cli, CountersNeedASimdRenderer) {
-  for (const char* renderer : {"--sequential", "--tbb-only", "--gpu", "--embree"}) {
+// The SIMD kernel and the GPU renderer count (schema frame_csv: the counter
+// columns); the scalar renderers and Embree do not.
+TEST(Cli, CountersNeedACountingRenderer) {
+  for (const char* renderer : {"--sequential", "--tbb-only", "--embree"}) {
     const CliExit refused = test::parseFails({renderer, "--counters"});
     EXPECT_EQ(refused.code, kExitBadInput) << renderer;
-    EXPECT_NE(refused.error.find("only the SIMD renderers (--simd and --simd-only) count"), std::string::npos)
+    EXPECT_NE(refused.error.find("--counters: only the SIMD renderers and the GPU renderer (--simd, --simd-only and "
+                                 "--gpu) count"),
+              std::string::npos)
         << refused.error;
   }
+  EXPECT_TRUE(parseOk({"--gpu", "--counters"}).options.counters);
+  EXPECT_TRUE(parseOk({"--gpu", "--accel", "bvh", "--gpu-path", "wavefront", "--counters"}).options.counters);
+  EXPECT_FALSE(parseOk({"--gpu"}).options.counters);
+}
+
+// Every name of the GPU renderer's axes parses to its enum value (schema:
+// gpu_bvhs, gpu_schedules, gpu_paths); the defaults are RenderOptions'.
+TEST(Cli, GpuAxesFillTheRenderOptions) {
+  const RunConfig plain = parseOk({"--gpu", "--accel", "bvh"});
+  EXPECT_EQ(plain.options.gpuBvh, GpuBvh::binary);
+  EXPECT_EQ(plain.options.gpuSchedule, GpuSchedule::pixel);
+  EXPECT_EQ(plain.options.gpuPath, GpuPath::megakernel);
+  for (std::size_t i = 0; i < schema::kGpuBvhNames.size(); ++i) {
+    const std::string name(schema::kGpuBvhNames[i]);
+    EXPECT_EQ(parseOk({"--gpu", "--accel", "bvh", "--gpu-bvh", name.c_str()}).options.gpuBvh, static_cast<GpuBvh>(i))
+        << name;
+  }
+  for (std::size_t i = 0; i < schema::kGpuScheduleNames.size(); ++i) {
+    const std::string name(schema::kGpuScheduleNames[i]);
+    EXPECT_EQ(parseOk({"--gpu", "--gpu-schedule", name.c_str()}).options.gpuSchedule, static_cast<GpuSchedule>(i))
+        << name << ": with either accel";
+    EXPECT_EQ(parseOk({"--gpu", "--accel", "bvh", "--gpu-schedule", name.c_str()}).options.gpuSchedule,
+              static_cast<GpuSchedule>(i))
+        << name;
+  }
+  for (std::size_t i = 0; i < schema::kGpuPathNames.size(); ++i) {
+    const std::string name(schema::kGpuPathNames[i]);
+    EXPECT_EQ(parseOk({"--gpu", "--gpu-path", name.c_str()}).options.gpuPath, static_cast<GpuPath>(i)) << name;
+    EXPECT_EQ(parseOk({"--gpu", "--accel", "bvh", "--gpu-path", name.c_str()}).options.gpuPath, static_cast<GpuPath>(i))
+        << name;
+  }
+  const RunConfig all = parseOk({"--gpu", "--accel", "bvh", "--gpu-bvh", "wide", "--gpu-schedule", "persistent",
+                                 "--gpu-path", "wavefront", "--stage", "original"});
+  EXPECT_EQ(all.options.gpuBvh, GpuBvh::wide) << "--stage must not reset it";
+  EXPECT_EQ(all.options.gpuSchedule, GpuSchedule::persistent);
+  EXPECT_EQ(all.options.gpuPath, GpuPath::wavefront);
+  EXPECT_EQ(all.options.algorithm, Algorithm::two_pass);
+}
+
+// A CPU renderer would record a GPU setting it ignored: each option is
+// refused there, its default value too.
+TEST(Cli, GpuAxesNeedTheGpuRenderer) {
+  const std::vector<std::vector<const char*>> options = {{"--gpu-bvh", "binary"},      {"--gpu-bvh", "wide"},
+                                                         {"--gpu-schedule", "pixel"},  {"--gpu-schedule", "persistent"},
+                                                         {"--gpu-path", "megakernel"}, {"--gpu-path", "wavefront"}};
+  for (const char* renderer : {"--sequential", "--simd", "--simd-only", "--tbb-only", "--embree"}) {
+    for (const auto& option : options) {
+      const CliExit refused = test::parseFails({renderer, "--accel", "bvh", option[0], option[1]});
+      EXPECT_EQ(refused.code, kExitBadInput) << renderer << " " << option[0];
+      const std::string rendererName(nameOf(parseOk({renderer}).renderer));
+      EXPECT_NE(refused.error.find(std::string(option[0]) + ": " + option[0] +
+                                   " applies to the GPU renderer (--gpu) only; renderer " + rendererName +
+                                   " does not take it"),
+                std::string::npos)
+          << refused.error;
+    }
+  }
+}
+
+TEST(Cli, GpuBvhNeedsABvh) {
+  for (const char* bvh : {"binary", "wide"}) {
+    const CliExit refused = test::parseFails({"--gpu", "--gpu-bvh", bvh});
+    EXPECT_EQ(refused.code, kExitBadInput) << bvh;
+    EXPECT_NE(refused.error.find("--gpu-bvh: --gpu-bvh " + std::string(bvh) +
+                                 " chooses the BVH the shader walks: it needs --accel bvh (accel is none)"),
+              std::string::npos)
+        << refused.error;
+    EXPECT_EQ(exitCode({"--gpu", "--accel", "none", "--gpu-bvh", bvh}), kExitBadInput) << bvh;
+  }
+  EXPECT_EQ(exitCode({"--gpu", "--accel", "bvh", "--gpu-bvh", "quad"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--gpu", "--gpu-schedule", "tiles"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--gpu", "--gpu-path", "zigzag"}), kExitBadInput);
+  EXPECT_EQ(exitCode({"--gpu", "--gpu-path"}), kExitBadInput) << "a value is needed";
 }
 
 TEST(Cli, SaveFrameAndOutputs) {
@@ -160,7 +237,9 @@ TEST(Cli, HelpAndVersionExitWithZero) {
   auto help = parse({"--help"});
   EXPECT_EQ(std::get<CliExit>(help).code, 0);
   EXPECT_NE(std::get<CliExit>(help).output.find("--early-exit"), std::string::npos);
-  for (const char* option : {"--traversal", "packet|single|hybrid", "--hybrid-threshold", "--counters"}) {
+  for (const char* option :
+       {"--traversal", "packet|single|hybrid", "--hybrid-threshold", "--counters", "--gpu-bvh", "binary|wide",
+        "--gpu-schedule", "pixel|persistent", "--gpu-path", "megakernel|wavefront"}) {
     EXPECT_NE(std::get<CliExit>(help).output.find(option), std::string::npos) << option;
   }
   auto version = parse({"--version"});

@@ -180,6 +180,54 @@ TEST(FrameCsv, TraversalColumnsAreTheRenderersOrEmpty) {
   EXPECT_EQ(field(row, hybrid_threshold), "9");
 }
 
+// The GPU renderer's axes as its RendererInfo reports them; gpu_bvh is
+// empty with accel none, and all three for the CPU renderers.
+TEST(FrameCsv, GpuAxisColumnsAreTheRenderersOrEmpty) {
+  using enum schema::FrameCsvColumn;
+  RunIdentity id = identity();
+  const std::vector<FrameRecord> one{{}};
+  auto row = parseCsv(formatFrameCsv(id, one))[1];
+  for (const auto c : {gpu_bvh, gpu_schedule, gpu_path}) {
+    EXPECT_EQ(field(row, c), "") << schema::kFrameCsvColumnNames[column(c)] << ": none applies to a CPU renderer";
+  }
+  id.renderer.kind = RendererKind::gpu;
+  id.renderer.gpuSchedule = GpuSchedule::persistent;
+  id.renderer.gpuPath = GpuPath::wavefront;
+  row = parseCsv(formatFrameCsv(id, one))[1];
+  EXPECT_EQ(field(row, gpu_bvh), "") << "accel none: no BVH";
+  EXPECT_EQ(field(row, gpu_schedule), "persistent");
+  EXPECT_EQ(field(row, gpu_path), "wavefront");
+  id.renderer.gpuBvh = GpuBvh::wide;
+  id.renderer.gpuSchedule = GpuSchedule::pixel;
+  id.renderer.gpuPath = GpuPath::megakernel;
+  row = parseCsv(formatFrameCsv(id, one))[1];
+  EXPECT_EQ(field(row, gpu_bvh), "wide");
+  EXPECT_EQ(field(row, gpu_schedule), "pixel");
+  EXPECT_EQ(field(row, gpu_path), "megakernel");
+  EXPECT_EQ(field(row, traversal), "") << "the SIMD kernel's column stays empty";
+  EXPECT_EQ(row.size(), schema::kFrameCsvColumnNames.size());
+}
+
+// The counter columns do not depend on the renderer: a GPU run's counters
+// fill them as a SIMD run's do.
+TEST(FrameCsv, CounterColumnsOfAGpuRun) {
+  using enum schema::FrameCsvColumn;
+  RunIdentity id = identity();
+  id.renderer = {RendererKind::gpu, 0, 0, "", std::nullopt, std::nullopt};
+  id.renderer.gpuSchedule = GpuSchedule::pixel;
+  id.renderer.gpuPath = GpuPath::megakernel;
+  id.options.counters = true;
+  const std::vector<FrameRecord> records{frameRecord(0)};
+  const std::vector<FrameCounters> counters{knownCounters(1)};
+  const auto rows = parseCsv(formatFrameCsv(id, records, counters));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(field(rows[1], renderer), "gpu");
+  EXPECT_EQ(field(rows[1], rays), "511");
+  EXPECT_EQ(field(rows[1], rays_per_depth), "384/120/7");
+  EXPECT_EQ(field(rows[1], node_visits), "11");
+  EXPECT_EQ(field(rows[1], shade_lanes_active), "18");
+}
+
 TEST(FrameCounterTotals, SumTheMeasuredFramesFieldByField) {
   const std::vector<FrameRecord> records{frameRecord(0, true), frameRecord(1), frameRecord(2), frameRecord(3)};
   const std::vector<FrameCounters> counters{knownCounters(1000), knownCounters(1), std::nullopt, knownCounters(3)};

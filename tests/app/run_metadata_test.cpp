@@ -59,6 +59,31 @@ TEST(RunMetadata, TraversalAndCountersOfARendererWithout) {
   EXPECT_TRUE(meta["lane_counters"].is_null());
 }
 
+// The GPU renderer's axes in the config, as in the CSV: "" where none
+// applies (a CPU renderer; gpu_bvh also with accel none).
+TEST(RunMetadata, GpuAxesAreTheRenderersOrEmpty) {
+  RunConfig config;
+  config.scenePath = test::scenePath("default");
+  const Scene scene = loadScene(config.scenePath);
+  const auto now = std::chrono::system_clock::now();
+  RunIdentity id{makeRunId(now), scene.name, SequentialRenderer().info(), config.options, config.extent};
+  nlohmann::json meta = makeRunMetadata(config, id, scene, {now, now});
+  for (const char* key : {"gpu_bvh", "gpu_schedule", "gpu_path"}) EXPECT_EQ(meta["config"][key], "") << key;
+  id.renderer = RendererInfo{};
+  id.renderer.kind = RendererKind::gpu;
+  id.renderer.gpuSchedule = GpuSchedule::persistent;
+  id.renderer.gpuPath = GpuPath::wavefront;
+  meta = makeRunMetadata(config, id, scene, {now, now});
+  EXPECT_EQ(meta["config"]["renderer"], "gpu");
+  EXPECT_EQ(meta["config"]["gpu_bvh"], "") << "accel none: no BVH";
+  EXPECT_EQ(meta["config"]["gpu_schedule"], "persistent");
+  EXPECT_EQ(meta["config"]["gpu_path"], "wavefront");
+  id.renderer.gpuBvh = GpuBvh::wide;
+  meta = makeRunMetadata(config, id, scene, {now, now});
+  EXPECT_EQ(meta["config"]["gpu_bvh"], "wide");
+  EXPECT_EQ(meta["config"]["traversal"], "") << "the SIMD kernel's key stays empty";
+}
+
 TEST(RunMetadata, LaneCountersHoldEverySchemaKeyOfTheTotals) {
   RunConfig config;
   config.scenePath = test::scenePath("default");
