@@ -402,7 +402,6 @@ def test_gpu_axes_and_counters_are_accepted_for_the_gpu_renderer(raytracer, repo
 # RendererInfo's gpuBvh, gpuSchedule and gpuPath are the GPU renderer's to
 # fill (render/renderer.h): schedule and path always, the BVH with accel bvh
 # only. Strict: once it does, this passes and the marker must go.
-@pytest.mark.xfail(strict=True, reason="until the GPU renderer fills RendererInfo's gpu fields")
 @pytest.mark.parametrize(
     "flags, expected",
     [
@@ -424,7 +423,6 @@ def test_a_gpu_run_records_its_axes(raytracer, repo_root, tmp_path, flags, expec
 # A GPU run with --counters fills the counter columns and lane_counters as
 # a SIMD run does (the columns' GPU meaning: schema frame_csv). Strict: once
 # GPURenderer::lastCounters() reports, this passes and the marker must go.
-@pytest.mark.xfail(strict=True, reason="until the GPU renderer counts (GPURenderer::lastCounters())")
 @pytest.mark.parametrize("flags", [[], ["--accel", "bvh", "--gpu-path", "wavefront"]])
 def test_a_gpu_run_with_counters_fills_the_counter_columns(raytracer, repo_root, tmp_path, flags):
     rows, meta = gpu_run(raytracer, repo_root / "scenes/random20.json", tmp_path, "--counters", *flags)
