@@ -3,10 +3,10 @@ raytracer command line, and the order their repetitions run in.
 
 Pure functions: the matrix of scenes x stages x accels x renderers x each
 renderer's axes (x traversals and hybrid thresholds where the SIMD kernel
-walks the BVH), the profile's [[overrides]] applied, and the schedule
-(round-robin, shuffle or blocked). A generated scene keeps its stand-in
-path under profiles.GENERATED_SCENES until the bench runner writes it into
-the run directory (place_generated_scenes).
+walks the BVH, x the GPU renderer's variants), the profile's [[overrides]]
+applied, and the schedule (round-robin, shuffle or blocked). A generated
+scene keeps its stand-in path under profiles.GENERATED_SCENES until the
+bench runner writes it into the run directory (place_generated_scenes).
 """
 
 from __future__ import annotations
@@ -18,12 +18,22 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from rtbench import names
-from rtbench.profiles import GENERATED_SCENES, OVERRIDE_AXES, RUN_AXES, SIZE_AXIS, Profile, ProfileError, Variant
+from rtbench.profiles import (
+    GENERATED_SCENES,
+    GPU_KEYS,
+    OVERRIDE_AXES,
+    RUN_AXES,
+    SIZE_AXIS,
+    Profile,
+    ProfileError,
+    Variant,
+)
 
-# The raytracer options of the profile's accels, traversals, hybrid_thresholds and counters.
+# The raytracer options of the profile's accels, traversals, hybrid_thresholds, GPU variants and counters.
 ACCEL_FLAG = "--accel"
 TRAVERSAL_FLAG = "--traversal"
 HYBRID_THRESHOLD_FLAG = "--hybrid-threshold"
+GPU_FLAGS = {names.GPU_BVH: "--gpu-bvh", names.GPU_SCHEDULE: "--gpu-schedule", names.GPU_PATH: "--gpu-path"}
 COUNTERS_FLAG = "--counters"
 # Every axis and the raytracer option it sets: the renderer options of the
 # schema (a renderer takes those its renderers[].options lists), then RUN_AXES.
@@ -48,12 +58,22 @@ class Config:
     # "" where none applies (names.takes_traversal); None: the kernel's default threshold.
     traversal: str = ""
     hybrid_threshold: int | None = None
+    # The GPU renderer's variants, "" where none applies (names.gpu_axes_of).
+    gpu_bvh: str = ""
+    gpu_schedule: str = ""
+    gpu_path: str = ""
     counters: bool = False
+
+    @property
+    def gpu_axes(self) -> dict[str, str]:
+        """The configuration's GPU variants by column (names.GPU_AXES), "" where none applies."""
+        return dict(zip(names.GPU_AXES, (self.gpu_bvh, self.gpu_schedule, self.gpu_path)))
 
     @property
     def id(self) -> str:
         """A file-name-safe identifier, unique within a profile (the accel in
-        it where it is not brute force, the traversal where it is not packets)."""
+        it where it is not brute force, the traversal where it is not packets,
+        the GPU variants where they are not the defaults: names.gpu_tag)."""
         accel = [] if self.accel == names.BRUTE_FORCE else [self.accel]
         parts = [
             self.scene,
@@ -61,6 +81,7 @@ class Config:
             self.variant.label,
             *accel,
             *names.traversal_tag(self.traversal, self.hybrid_threshold),
+            *names.gpu_tag(self.gpu_bvh, self.gpu_schedule, self.gpu_path),
             *(f"{axis}{value}" for axis, value in self.axes),
         ]
         return re.sub(r"[^A-Za-z0-9_.-]+", "_", "-".join(parts))
@@ -73,6 +94,9 @@ class Config:
             argv += [TRAVERSAL_FLAG, self.traversal]
         if self.hybrid_threshold is not None:
             argv += [HYBRID_THRESHOLD_FLAG, str(self.hybrid_threshold)]
+        for axis, value in self.gpu_axes.items():
+            if value:
+                argv += [GPU_FLAGS[axis], value]
         if self.counters:
             argv.append(COUNTERS_FLAG)
         argv += ["--width", str(self.width), "--height", str(self.height)]
@@ -96,6 +120,7 @@ class Config:
             "accel": self.accel,
             "traversal": self.traversal,
             "hybrid_threshold": self.hybrid_threshold,
+            **self.gpu_axes,
             "counters": self.counters,
             "width": self.width,
             "height": self.height,
@@ -148,10 +173,10 @@ def expand(
     forced: dict | None = None,
 ) -> list[Config]:
     """Every configuration of the matrix (scene x stage x accel x renderer x
-    its traversals x its axes), scene-major and renderer-innermost, so that
-    running them in this order already alternates renderers. `forced` (from
-    the command line: width, height, warmup, frames) wins over the profile
-    and its overrides."""
+    its traversals x its GPU variants x its axes), scene-major and
+    renderer-innermost, so that running them in this order already
+    alternates renderers. `forced` (from the command line: width, height,
+    warmup, frames) wins over the profile and its overrides."""
     configs = []
     for scene_path, variant, accel, renderer in itertools.product(
         scene_paths, profile.variants, profile.accels, profile.renderers
@@ -162,8 +187,9 @@ def expand(
         axes = [axis for axis in RENDERER_AXES if axis in spec]
         ids = set()  # of this scene, stage, accel and renderer
         walks = traversals(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
-        for (traversal, threshold), combo in itertools.product(
-            walks, itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes))
+        gpu = gpu_variants(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
+        for (traversal, threshold), (gpu_bvh, gpu_schedule, gpu_path), combo in itertools.product(
+            walks, gpu, itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes))
         ):
             config = Config(
                 scene=scene_path.stem,
@@ -179,6 +205,9 @@ def expand(
                 accel=names.OWN_ACCEL.get(renderer, accel),
                 traversal=traversal,
                 hybrid_threshold=threshold,
+                gpu_bvh=gpu_bvh,
+                gpu_schedule=gpu_schedule,
+                gpu_path=gpu_path,
                 counters=profile.counters and names.counts_lanes(renderer),
             )
             config = apply_overrides(sized(config), profile.overrides, dict(zip(axes, (w for w, _ in combo))))
@@ -205,6 +234,17 @@ def traversals(profile: Profile, renderer: str, accel: str) -> list[tuple[str, i
         return [("", None)]
     thresholds = profile.hybrid_thresholds or (None,)
     return [(t, h) for t in profile.traversals for h in (thresholds if t == names.HYBRID else (None,))]
+
+
+def gpu_variants(profile: Profile, renderer: str, accel: str) -> list[tuple[str, str, str]]:
+    """(gpu_bvh, gpu_schedule, gpu_path) of each configuration a renderer runs
+    at an accel: the product of the profile's gpu_bvhs (accel bvh only),
+    gpu_schedules and gpu_paths for the GPU renderer (names.gpu_axes_of),
+    else one configuration without them."""
+    has = names.gpu_axes_of(renderer, accel)
+    chosen = {names.GPU_BVH: profile.gpu_bvhs, names.GPU_SCHEDULE: profile.gpu_schedules}
+    chosen[names.GPU_PATH] = profile.gpu_paths
+    return list(itertools.product(*(chosen[axis] if axis in has else ("",) for axis in names.GPU_AXES)))
 
 
 def sized(config: Config) -> Config:
@@ -250,6 +290,7 @@ def _matches(config: Config, override: dict, written: dict[str, str]) -> bool:
         and config.scene in override.get("scenes", [config.scene])
         and config.accel in override.get("accels", [config.accel])
         and (config.traversal in override["traversals"] if "traversals" in override else True)
+        and all(config.gpu_axes[axis] in override[key] for key, axis in GPU_KEYS.items() if key in override)
         and all(_axis_matches(written, override, axis) for axis in OVERRIDE_AXES)
     )
 

@@ -47,7 +47,7 @@ def meta_path_for(csv_path: Path) -> Path:
 def read_frame_csv(path: Path) -> dict[str, list]:
     """Reads a frame CSV into columns, converting each by its schema type. A
     CSV written before some of the schema's optional columns (names.OPTIONAL_COLUMNS)
-    reads as if they were empty: no traversal, no counters."""
+    reads as if they were empty: no traversal, no GPU variants, no counters."""
     try:
         with path.open(newline="", encoding="utf-8") as f:
             rows = list(csv.reader(f))
@@ -130,6 +130,7 @@ def _check_values(path: Path, columns: dict[str, list]) -> None:
             if 0 < empty < len(columns[column]):
                 raise RunDataError(f"{path}: column {column} is empty in {empty} of {len(columns[column])} frames")
     _check_traversals(path, columns)
+    _check_gpu_axes(path, columns)
     _check_counters(path, columns)
 
 
@@ -146,6 +147,24 @@ def _check_traversals(path: Path, columns: dict[str, list]) -> None:
                 f"{path}: column {names.HYBRID_THRESHOLD}: {threshold} with traversal {traversal or '(none)'} "
                 f"(a count of lanes >= 0, with traversal {names.HYBRID} only)"
             )
+
+
+def _check_gpu_axes(path: Path, columns: dict[str, list]) -> None:
+    """A GPU variant of the schema (or none), and only where the configuration
+    has that axis (names.gpu_axes_of: the GPU renderer, its BVH with accel
+    bvh only); a CSV may leave an axis empty where it has it (written before
+    the axis: the loader fills in the default)."""
+    for axis, (members, _) in names.GPU_AXIS_VALUES.items():
+        _check_members(path, axis, columns[axis], ["", *members])
+        where = f"the {names.GPU_RENDERER} renderer" + (f" with accel {names.BVH}" if axis == names.GPU_BVH else "")
+        for lineno, (value, renderer, accel) in enumerate(
+            zip(columns[axis], columns[names.RENDERER], columns[names.ACCEL]), start=2
+        ):
+            if value and axis not in names.gpu_axes_of(renderer, accel):
+                raise RunDataError(
+                    f"{path}: line {lineno}: column {axis}: {value} with renderer {renderer}, accel {accel} "
+                    f"(applies to {where} only)"
+                )
 
 
 def _check_counters(path: Path, columns: dict[str, list]) -> None:
@@ -204,6 +223,8 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
         if names.COLUMN_TYPES[column] == "int":
             frames[column] = pd.array(columns[column], dtype="Int64")
     frames[names.TRAVERSAL] = _traversals(frames)
+    for axis in names.GPU_AXES:
+        frames[axis] = _gpu_axis(frames, axis)
     build = meta.get(names.META_BUILD) or {}
     host = meta.get(names.META_HOST) or {}
     frames[names.STAGE] = [names.stage_of(a, e) for a, e in zip(frames[names.ALGORITHM], frames[names.EARLY_EXIT])]
@@ -226,6 +247,18 @@ def _traversals(frames: pd.DataFrame) -> list[str]:
     return [
         t or (names.PACKET if names.takes_traversal(r, a) else "")
         for t, r, a in zip(frames[names.TRAVERSAL], frames[names.RENDERER], frames[names.ACCEL])
+    ]
+
+
+def _gpu_axis(frames: pd.DataFrame, axis: str) -> list[str]:
+    """One GPU axis' column; where a CSV leaves it empty (or lacks it) for a
+    configuration that has the axis (names.gpu_axes_of), its default: the
+    only variant before the GPU axes (binary BVH, one invocation per pixel,
+    one dispatch per frame), so runs before and after them compare."""
+    default = names.GPU_AXIS_VALUES[axis][1]
+    return [
+        v or (default if axis in names.gpu_axes_of(r, a) else "")
+        for v, r, a in zip(frames[axis], frames[names.RENDERER], frames[names.ACCEL])
     ]
 
 

@@ -1,6 +1,8 @@
 """Speedup and the Karp-Flatt metric, as pure functions, and the table of
-them for a run's summary; the cost-vs-spheres fits; and what the SIMD
-kernel's lane counters (--counters) give: rays per second and lane occupancy.
+them for a run's summary; the cost-vs-spheres fits; what the lane counters
+(--counters: the SIMD kernel's, and the GPU renderer's per subgroup) give:
+rays per second and lane occupancy; and the GPU renderer's variants against
+the default one.
 
 Speedup S = T_ref / T_par against the reference renderer at the same scene,
 stage and image size (as the thesis did: each table's sequential column).
@@ -163,6 +165,7 @@ def scaling_table(summary: pd.DataFrame) -> pd.DataFrame:
         names.ACCEL,
         names.TRAVERSAL,
         names.HYBRID_THRESHOLD,
+        *names.GPU_AXES,
         names.RENDERER,
         names.LANES,
         names.SIMD_TARGET,
@@ -274,6 +277,8 @@ def cost_fits(curves: pd.DataFrame) -> pd.DataFrame:
 # --- lane counters (--counters) ------------------------------------------------------
 
 MRAYS_PER_S = "mrays_per_s"
+# Which time column Mrays/s divided by (rate_time).
+MRAYS_TIME = "mrays_time"
 FRAMES = "frames"
 MASKED_SHARE = "masked_share"
 # Per kind of lane work (names.LANE_WORK): its occupancy column, active / slots.
@@ -293,17 +298,32 @@ def has_counters(frames: pd.DataFrame) -> bool:
     return not counted(frames).empty
 
 
+def rate_time(group: pd.DataFrame) -> str:
+    """The time column Mrays/s divides by for one configuration's frames:
+    gpu_ms (the device time of the render dispatches) for a renderer on a
+    Vulkan device that measured it in every frame, render_ms otherwise. The
+    GPU renderer's render_ms is host time around a submit and a wait, which
+    for a frame of a millisecond or two is mostly not the tracing."""
+    renderer = group[names.RENDERER].iloc[0]
+    gpu = group[names.GPU_MS].astype(float)
+    if not names.renders_on_cpu(renderer) and gpu.notna().all():
+        return names.GPU_MS
+    return names.RENDER_MS
+
+
 def throughput(frames: pd.DataFrame) -> pd.DataFrame:
     """Per configuration with counters: Mrays/s, the median over its measured
-    frames of rays (all bounce depths) / render_ms / 1000, i.e. millions of
-    rays per second of the Render phase."""
+    frames of rays (all bounce depths) / time / 1000, i.e. millions of rays
+    per second of the Render phase (render_ms), or of the GPU's dispatches
+    (gpu_ms, rate_time); MRAYS_TIME names the column."""
     rows = []
     for key, group in counted(frames).groupby(names.CONFIG_KEYS, sort=False, dropna=False):
+        time = rate_time(group)
         rays = group[names.RAYS].astype(float).to_numpy()
-        ms = group[names.RENDER_MS].astype(float).to_numpy()
+        ms = group[time].astype(float).to_numpy()
         per_frame = [r / t / 1000.0 for r, t in zip(rays, ms) if t > 0]
-        rows.append({**dict(zip(names.CONFIG_KEYS, key)), MRAYS_PER_S: stats.median(per_frame)})
-    return pd.DataFrame(rows, columns=[*names.CONFIG_KEYS, MRAYS_PER_S])
+        rows.append({**dict(zip(names.CONFIG_KEYS, key)), MRAYS_PER_S: stats.median(per_frame), MRAYS_TIME: time})
+    return pd.DataFrame(rows, columns=[*names.CONFIG_KEYS, MRAYS_PER_S, MRAYS_TIME])
 
 
 def with_throughput(summary: pd.DataFrame, frames: pd.DataFrame) -> pd.DataFrame:
@@ -351,3 +371,59 @@ def lane_occupancy(frames: pd.DataFrame) -> pd.DataFrame:
 
 def _share(part: float, whole: float) -> float:
     return part / whole if whole > 0 else math.nan
+
+
+# --- the GPU renderer's variants (gpu_bvh, gpu_schedule, gpu_path) ----------------------
+
+GPU_MS_MEDIAN = "gpu_ms_median"
+GPU_MS_CI_LOW = "gpu_ms_ci_low"
+GPU_MS_CI_HIGH = "gpu_ms_ci_high"
+# The default variant's median gpu_ms over this one's: > 1, this variant is faster.
+SPEEDUP_OVER_DEFAULT = "speedup_over_default"
+
+
+def has_gpu_variants(frames: pd.DataFrame) -> bool:
+    """Whether a GPU configuration of the run ran a variant other than the default (names.gpu_tag)."""
+    gpu = frames[frames[names.RENDERER] == names.GPU_RENDERER]
+    return any(names.gpu_tag(*values) for values in zip(*(gpu[axis] for axis in names.GPU_AXES)))
+
+
+def gpu_variants(frames: pd.DataFrame) -> pd.DataFrame:
+    """Per configuration of the GPU renderer that measured gpu_ms in its
+    measured frames: their count, the median gpu_ms (the device time of the
+    frame's dispatches: one, or a wavefront frame's all) with its bootstrap
+    CI, and its speedup over the default variant (binary BVH, one invocation
+    per pixel, one dispatch) of the same configuration otherwise; NaN where
+    that did not run. Empty unless the run has a variant besides the default
+    (has_gpu_variants). Sorted as the summary."""
+    columns = [*names.CONFIG_KEYS, "n", GPU_MS_MEDIAN, GPU_MS_CI_LOW, GPU_MS_CI_HIGH, SPEEDUP_OVER_DEFAULT]
+    if not has_gpu_variants(frames):
+        return pd.DataFrame(columns=columns)
+    measured = stats.measured(frames)
+    gpu = measured[(measured[names.RENDERER] == names.GPU_RENDERER) & measured[names.GPU_MS].notna()]
+    rows = []
+    for key, group in gpu.groupby(names.CONFIG_KEYS, sort=False, dropna=False):
+        summary = stats.summarize(group[names.GPU_MS].to_numpy())
+        rows.append(
+            {
+                **dict(zip(names.CONFIG_KEYS, key)),
+                "n": summary["n"],
+                GPU_MS_MEDIAN: summary["median"],
+                GPU_MS_CI_LOW: summary["ci_low"],
+                GPU_MS_CI_HIGH: summary["ci_high"],
+            }
+        )
+    table = pd.DataFrame(rows, columns=columns)
+    # Each row's median by (the other configuration keys, its GPU variant); str() makes NA keys comparable.
+    others = [k for k in names.CONFIG_KEYS if k not in names.GPU_AXES]
+    medians = {
+        (tuple(str(r[k]) for k in others), tuple(r[axis] for axis in names.GPU_AXES)): r[GPU_MS_MEDIAN]
+        for _, r in table.iterrows()
+    }
+
+    def default_median(row) -> float:
+        default = tuple(names.GPU_AXIS_VALUES[axis][1] if row[axis] else "" for axis in names.GPU_AXES)
+        return medians.get((tuple(str(row[k]) for k in others), default), math.nan)
+
+    table[SPEEDUP_OVER_DEFAULT] = [speedup(default_median(r), r[GPU_MS_MEDIAN]) for _, r in table.iterrows()]
+    return stats.sort_configs(table) if rows else table

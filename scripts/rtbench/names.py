@@ -50,15 +50,21 @@ EARLY_EXIT = _column("early_exit")
 ACCEL = _column("accel")
 TRAVERSAL = _column("traversal")
 HYBRID_THRESHOLD = _column("hybrid_threshold")
+# The GPU renderer's traversal variants (the schema's gpu_bvhs, gpu_schedules, gpu_paths).
+GPU_BVH = _column("gpu_bvh")
+GPU_SCHEDULE = _column("gpu_schedule")
+GPU_PATH = _column("gpu_path")
+GPU_AXES = [GPU_BVH, GPU_SCHEDULE, GPU_PATH]
 WIDTH = _column("width")
 HEIGHT = _column("height")
 FRAME = _column("frame")
 WARMUP = _column("warmup")
 RENDER_MS = _column("render_ms")
 GPU_MS = _column("gpu_ms")
-# --counters: the SIMD kernel's tallies of one frame (docs/render-model.md);
-# each kind of lane work as (lane slots, lanes active): the vector lanes its
-# steps occupied and those that did useful work.
+# --counters: the SIMD kernel's tallies of one frame (docs/render-model.md),
+# or the GPU renderer's per subgroup (the schema's column descriptions); each
+# kind of lane work as (lane slots, lanes active): the vector lanes (subgroup
+# invocations) its steps occupied and those that did useful work.
 RAYS = _column("rays")
 RAYS_PER_DEPTH = _column("rays_per_depth")
 NODE_VISITS = _column("node_visits")
@@ -72,9 +78,10 @@ COUNTER_COLUMNS = [RAYS, RAYS_PER_DEPTH, NODE_VISITS, SPHERE_TESTS, *(c for pair
 # rays_per_depth: the rays of depth 0, 1, ... joined by this.
 DEPTH_SEPARATOR = "/"
 # Columns that are empty where they do not apply (a traversal where the SIMD
-# kernel does not walk a BVH, counters without --counters), and that a CSV
-# written before them lacks: the loader reads such a CSV as if they were empty.
-OPTIONAL_COLUMNS = [TRAVERSAL, HYBRID_THRESHOLD, *COUNTER_COLUMNS]
+# kernel does not walk a BVH, the GPU variants for the CPU renderers,
+# counters without --counters), and that a CSV written before them lacks:
+# the loader reads such a CSV as if they were empty.
+OPTIONAL_COLUMNS = [TRAVERSAL, HYBRID_THRESHOLD, *GPU_AXES, *COUNTER_COLUMNS]
 # The host wall time of each phase of the frame loop (the schema's phases:
 # Update, Render, Present), whose sum is the time of the whole frame.
 PHASE_MS = [_column(f"{phase.lower()}_ms") for phase in schema.schema()["phases"]]
@@ -129,6 +136,9 @@ CONFIG_KEYS = [
     ACCEL,
     TRAVERSAL,
     HYBRID_THRESHOLD,
+    GPU_BVH,
+    GPU_SCHEDULE,
+    GPU_PATH,
     THREADS,
     LANES,
     SIMD_TARGET,
@@ -166,6 +176,9 @@ ACCELS: list[str] = [a["name"] for a in schema.schema()["accels"]]
 # The accel of brute force (the thesis' algorithm, and the default).
 BRUTE_FORCE: str = ACCELS[0]
 TRAVERSALS: list[str] = [t["name"] for t in schema.schema()["traversals"]]
+GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"]]
+GPU_SCHEDULES: list[str] = [s["name"] for s in schema.schema()["gpu_schedules"]]
+GPU_PATHS: list[str] = [p["name"] for p in schema.schema()["gpu_paths"]]
 CSV_COLUMNS: list[str] = schema.frame_csv_columns()
 COLUMN_TYPES: dict[str, str] = {c["name"]: c["type"] for c in schema.schema()["frame_csv"]}
 SCHEMA_VERSION: int = schema.schema()["version"]
@@ -185,6 +198,19 @@ BVH = _member("bvh", "accels", ACCELS)
 PACKET = _member("packet", "traversals", TRAVERSALS)
 HYBRID = _member("hybrid", "traversals", TRAVERSALS)
 KERNELS: dict[str, str | None] = {name: r["kernel"] for name, r in schema.renderers().items()}
+# The GPU renderer (--gpu) and its variants as they ran before the GPU axes
+# (binary BVH, one invocation per pixel, one dispatch per frame): the default
+# of each axis, which labels leave unsaid and the loader gives older CSVs.
+GPU_RENDERER = _member("gpu", "renderers", RENDERERS)
+BINARY = _member("binary", "gpu_bvhs", GPU_BVHS)
+PIXEL = _member("pixel", "gpu_schedules", GPU_SCHEDULES)
+MEGAKERNEL = _member("megakernel", "gpu_paths", GPU_PATHS)
+# Each GPU axis: (its values in schema order, its default).
+GPU_AXIS_VALUES: dict[str, tuple[list[str], str]] = {
+    GPU_BVH: (GPU_BVHS, BINARY),
+    GPU_SCHEDULE: (GPU_SCHEDULES, PIXEL),
+    GPU_PATH: (GPU_PATHS, MEGAKERNEL),
+}
 
 
 def reference_renderer() -> str:
@@ -204,14 +230,37 @@ def accepts(renderer: str, option: str) -> bool:
     return option in RENDERER_OPTIONS.get(renderer, [])
 
 
-def counts_lanes(renderer: str) -> bool:
-    """Whether `renderer` runs the SIMD kernel, the one that takes --counters."""
+def runs_simd_kernel(renderer: str) -> bool:
+    """Whether `renderer` runs the SIMD kernel (the one with traversals)."""
     return KERNELS.get(renderer) == SIMD_KERNEL
+
+
+def counts_lanes(renderer: str) -> bool:
+    """Whether `renderer` takes --counters: the SIMD kernel's renderers and
+    the GPU renderer (which counts per subgroup)."""
+    return runs_simd_kernel(renderer) or renderer == GPU_RENDERER
 
 
 def takes_traversal(renderer: str, accel: str) -> bool:
     """Whether a configuration has a traversal: the SIMD kernel walking the BVH."""
-    return counts_lanes(renderer) and accel == BVH
+    return runs_simd_kernel(renderer) and accel == BVH
+
+
+def gpu_axes_of(renderer: str, accel: str) -> list[str]:
+    """The GPU axes a configuration has: the GPU renderer's schedule and path,
+    and its BVH with accel bvh only; none for the other renderers."""
+    if renderer != GPU_RENDERER:
+        return []
+    return [axis for axis in GPU_AXES if axis != GPU_BVH or accel == BVH]
+
+
+def gpu_tag(gpu_bvh="", gpu_schedule="", gpu_path="") -> list[str]:
+    """The GPU variants that are not the defaults (which labels leave unsaid,
+    as before the GPU axes), in axis order: [], ["wide"], ["persistent",
+    "wavefront"]. The schema's names of the three axes are distinct, so each
+    tag says its axis."""
+    values = dict(zip(GPU_AXES, (gpu_bvh, gpu_schedule, gpu_path)))
+    return [v for axis, v in values.items() if isinstance(v, str) and v and v != GPU_AXIS_VALUES[axis][1]]
 
 
 def traversal_tag(traversal: str, hybrid_threshold=None) -> list[str]:
@@ -245,16 +294,33 @@ def label_options(row) -> list[tuple[str, int]]:
 def accel_tag(row) -> list[str]:
     """[accel] where a configuration does not search by brute force (the
     thesis' algorithm, which labels leave unsaid), else []; then its
-    traversal_tag (a row without the traversal columns has none)."""
+    variant_tag (a row without the traversal or GPU columns has none)."""
     accel = [] if row[ACCEL] == BRUTE_FORCE else [row[ACCEL]]
-    return accel + traversal_tag(row.get(TRAVERSAL, ""), row.get(HYBRID_THRESHOLD))
+    return accel + variant_tag(row)
+
+
+def variant_tag(row) -> list[str]:
+    """A row's traversal_tag, then its gpu_tag: how the configuration walked
+    its accel where that is not the default."""
+    gpu = [row.get(axis, "") for axis in GPU_AXES]
+    return traversal_tag(row.get(TRAVERSAL, ""), row.get(HYBRID_THRESHOLD)) + gpu_tag(*gpu)
 
 
 def traversal_order(traversal: str) -> int:
     """Sort key: none first, then the traversals in schema order, unknown ones last."""
-    if not traversal:
+    return _order(traversal, TRAVERSALS)
+
+
+def gpu_order(axis: str, value: str) -> int:
+    """Sort key of a GPU axis' value: none first, then the schema order (the
+    default first), unknown ones last."""
+    return _order(value, GPU_AXIS_VALUES[axis][0])
+
+
+def _order(value, members: list[str]) -> int:
+    if not isinstance(value, str) or not value:
         return -1
-    return TRAVERSALS.index(traversal) if traversal in TRAVERSALS else len(TRAVERSALS)
+    return members.index(value) if value in members else len(members)
 
 
 def stage_of(algorithm: str, early_exit: str) -> str:

@@ -174,10 +174,10 @@ def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
     if scaling.empty:
         return []
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    keys = [names.RENDERER, names.LANES, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD, names.SCENE]
-    keys += [names.STAGE, names.WIDTH, names.HEIGHT]
+    keys = [names.RENDERER, names.LANES, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD, *names.GPU_AXES]
+    keys += [names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT]
     for key, group in scaling.groupby(keys, sort=False, dropna=False):
-        renderer, lanes, _accel, _traversal, _threshold, scene, stage, _w, _h = key
+        renderer, lanes, scene, stage = key[0], key[1], key[-4], key[-3]
         lane_text = f" l{lanes}" if lanes > 1 else ""
         accel_text = "".join(f" {tag}" for tag in names.accel_tag(group.iloc[0]))
         ax.plot(
@@ -325,7 +325,7 @@ def cost_vs_spheres(curves: pd.DataFrame, fits: pd.DataFrame, stem: Path) -> lis
                 fit[names.RENDERER],
                 *_option_texts(fit),
                 fit[names.ACCEL],
-                *names.traversal_tag(fit[names.TRAVERSAL], fit[names.HYBRID_THRESHOLD]),
+                *names.variant_tag(fit),
                 *(str(fit[key]) for key in label_keys),
             ]
         )
@@ -365,7 +365,7 @@ def karp_flatt_vs_p(metrics_table: pd.DataFrame, stem: Path) -> list[Path]:
         return []
     on_cpu = metrics_table[names.RENDERER].map(names.renders_on_cpu).astype(bool)
     cpu = metrics_table[on_cpu & np.isfinite(metrics_table["karp_flatt"].astype(float))]
-    work = [names.SCENE, names.STAGE, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD]
+    work = [names.SCENE, names.STAGE, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD, *names.GPU_AXES]
     work += [names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
     families = [g for _, g in cpu.groupby([names.RENDERER, *work], sort=False, dropna=False) if g["p"].nunique() > 1]
     if not families:

@@ -4,8 +4,10 @@ into configurations and a schedule.
 
 A profile names scenes, stages (or explicit algorithm / early-exit sets),
 accels (how a ray finds its nearest sphere: the schema's accels),
-traversals (how the SIMD kernel walks the BVH: the schema's traversals) and
-whether the SIMD kernel counts its lane work (counters), renderers with
+traversals (how the SIMD kernel walks the BVH: the schema's traversals),
+the GPU renderer's variants (gpu_bvhs, gpu_schedules, gpu_paths: the
+schema's lists of them) and whether the counting renderers count their lane
+work (counters), renderers with
 their own axes (the renderer options the schema gives each, of threads,
 lanes, grain and partition; and device, present), the image
 size, warm-up and measured frames, repetitions and the interleaving. Every
@@ -87,6 +89,11 @@ class Profile:
     # traversal hybrid's thresholds (empty: the kernel's default).
     traversals: tuple[str, ...] = (names.PACKET,)
     hybrid_thresholds: tuple[int, ...] = ()
+    # The GPU renderer's variants (names.gpu_axes_of): its BVH where accel is
+    # bvh, its schedule and path; each defaults to the way it ran before them.
+    gpu_bvhs: tuple[str, ...] = (names.BINARY,)
+    gpu_schedules: tuple[str, ...] = (names.PIXEL,)
+    gpu_paths: tuple[str, ...] = (names.MEGAKERNEL,)
     counters: bool = False
     raw: dict = field(default_factory=dict, compare=False)
 
@@ -126,6 +133,7 @@ def parse_profile(raw: dict, path: Path) -> Profile:
     renderers = _renderers(values["renderers"], path)
     overrides = tuple(_override(o, path, i, variants) for i, o in enumerate(values["overrides"]))
     _check_traversal_keys(values, renderers, path)
+    _check_gpu_keys(values, renderers, path)
     return Profile(
         name=path.stem,
         path=path,
@@ -148,6 +156,9 @@ def parse_profile(raw: dict, path: Path) -> Profile:
         raw=raw,
         traversals=tuple(values["traversals"]),
         hybrid_thresholds=tuple(values.get("hybrid_thresholds", ())),
+        gpu_bvhs=tuple(values["gpu_bvhs"]),
+        gpu_schedules=tuple(values["gpu_schedules"]),
+        gpu_paths=tuple(values["gpu_paths"]),
         counters=values["counters"],
     )
 
@@ -187,6 +198,9 @@ KINDS = {  # kind -> (description, test)
     "stage": ("a stage name or a table {algorithm = ..., early_exits = [...]}", _plain(str, dict)),
 }
 
+# The profile keys of the GPU renderer's variants -> the CSV column (names.GPU_AXES) each sets.
+GPU_KEYS = {"gpu_bvhs": names.GPU_BVH, "gpu_schedules": names.GPU_SCHEDULE, "gpu_paths": names.GPU_PATH}
+
 TOP_RULES = {
     "description": Rule("str"),
     "preset": Rule("str", "release"),
@@ -196,6 +210,10 @@ TOP_RULES = {
     "traversals": Rule("str", [names.PACKET], shape="list", choices=tuple(names.TRAVERSALS)),
     # --hybrid-threshold: lanes; 0 would mean the kernel's default, which leaving the key out says.
     "hybrid_thresholds": Rule("int", OPTIONAL, shape="list", minimum=1),
+    # The GPU renderer's variants: --gpu-bvh (accel bvh only), --gpu-schedule, --gpu-path.
+    "gpu_bvhs": Rule("str", [names.BINARY], shape="list", choices=tuple(names.GPU_BVHS)),
+    "gpu_schedules": Rule("str", [names.PIXEL], shape="list", choices=tuple(names.GPU_SCHEDULES)),
+    "gpu_paths": Rule("str", [names.MEGAKERNEL], shape="list", choices=tuple(names.GPU_PATHS)),
     "counters": Rule("bool", False),
     "width": Rule("int", 800, minimum=1),
     "height": Rule("int", 600, minimum=1),
@@ -221,6 +239,8 @@ OVERRIDE_RULES = {
     "accels": replace(TOP_RULES["accels"], default=OPTIONAL),
     # A configuration without a traversal (names.takes_traversal) never matches them.
     "traversals": replace(TOP_RULES["traversals"], default=OPTIONAL),
+    # Likewise a configuration without that GPU axis (names.gpu_axes_of) never matches them.
+    **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in GPU_KEYS},
     # Axis values of the configuration as the profile writes them (a number
     # never matches the threads "all" resolves to), e.g. to run the thread
     # counts of a scaling study on one scene only.
@@ -350,9 +370,9 @@ def _check_traversal_keys(values: dict, renderers: dict, path: Path) -> None:
         raise ProfileError(f"{path}: traversals names a traversal twice: {values['traversals']!r}")
     if len(set(values.get("hybrid_thresholds", []))) != len(values.get("hybrid_thresholds", [])):
         raise ProfileError(f"{path}: hybrid_thresholds names a threshold twice: {values['hybrid_thresholds']!r}")
-    simd = [r for r in renderers if names.counts_lanes(r)]
-    counting = ", ".join(r for r in names.RENDERERS if names.counts_lanes(r))
-    kernel = f"the renderers of the {names.SIMD_KERNEL} kernel ({counting})"
+    simd = [r for r in renderers if names.runs_simd_kernel(r)]
+    kernel_renderers = ", ".join(r for r in names.RENDERERS if names.runs_simd_kernel(r))
+    kernel = f"the renderers of the {names.SIMD_KERNEL} kernel ({kernel_renderers})"
     if values["traversals"] != [names.PACKET] and not (simd and names.BVH in values["accels"]):
         raise ProfileError(
             f"{path}: traversals: a traversal applies to {kernel} with accel {names.BVH} only, and this "
@@ -360,8 +380,32 @@ def _check_traversal_keys(values: dict, renderers: dict, path: Path) -> None:
         )
     if "hybrid_thresholds" in values and names.HYBRID not in values["traversals"]:
         raise ProfileError(f"{path}: hybrid_thresholds: applies to traversal {names.HYBRID}, which traversals lacks")
-    if values["counters"] and not simd:
-        raise ProfileError(f"{path}: counters: only {kernel} count, and this profile runs none of them")
+    counting = ", ".join(r for r in names.RENDERERS if names.counts_lanes(r))
+    if values["counters"] and not any(names.counts_lanes(r) for r in renderers):
+        raise ProfileError(
+            f"{path}: counters: only the renderers that count ({counting}) take it, and this profile runs none of them"
+        )
+
+
+def _check_gpu_keys(values: dict, renderers: dict, path: Path) -> None:
+    """gpu_bvhs, gpu_schedules and gpu_paths name each variant once and,
+    where they ask for more than the default, reach a configuration: the GPU
+    renderer (with accel bvh for gpu_bvhs)."""
+    for key, axis in GPU_KEYS.items():
+        chosen, default = values[key], names.GPU_AXIS_VALUES[axis][1]
+        if len(set(chosen)) != len(chosen):
+            raise ProfileError(f"{path}: {key} names a value twice: {chosen!r}")
+        if chosen == [default]:
+            continue
+        if names.GPU_RENDERER not in renderers:
+            raise ProfileError(
+                f"{path}: {key}: applies to the {names.GPU_RENDERER} renderer only, which this profile does not run"
+            )
+        if axis == names.GPU_BVH and names.BVH not in values["accels"]:
+            raise ProfileError(
+                f"{path}: {key}: applies to the {names.GPU_RENDERER} renderer with accel {names.BVH} only, "
+                f"and this profile has no accel {names.BVH}"
+            )
 
 
 def _override(entry: dict, path: Path, index: int, variants: tuple[Variant, ...]) -> dict:

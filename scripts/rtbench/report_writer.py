@@ -65,6 +65,7 @@ class ReportResults:
     warnings: list[str]
     budgets: pd.DataFrame = field(default_factory=pd.DataFrame)  # frame-budget statistics (budget.summarize_budgets)
     occupancy: pd.DataFrame = field(default_factory=pd.DataFrame)  # lane counters (metrics.lane_occupancy), if any
+    gpu_variants: pd.DataFrame = field(default_factory=pd.DataFrame)  # metrics.gpu_variants, if the run has them
     written: list[Path] = field(default_factory=list)
 
 
@@ -102,9 +103,22 @@ def compute(inputs: ReportInputs) -> ReportResults:
     occupancy = metrics.lane_occupancy(inputs.frames)
     if not occupancy.empty:
         built.append(tables.lane_occupancy(occupancy))
+    variants = metrics.gpu_variants(inputs.frames)
+    if not variants.empty:
+        built.append(tables.gpu_variants(variants))
     warnings = collect_warnings(inputs, summary)
     return ReportResults(
-        summary, met, scaling, curves, fits, thesis_metrics, built, warnings, budgets=budgets, occupancy=occupancy
+        summary,
+        met,
+        scaling,
+        curves,
+        fits,
+        thesis_metrics,
+        built,
+        warnings,
+        budgets=budgets,
+        occupancy=occupancy,
+        gpu_variants=variants,
     )
 
 
@@ -245,6 +259,8 @@ def write_data(inputs: ReportInputs, results: ReportResults, out: Path) -> list[
     files["budget.csv"] = results.budgets
     if not results.occupancy.empty:
         files["lane_occupancy.csv"] = results.occupancy
+    if not results.gpu_variants.empty:
+        files["gpu_variants.csv"] = results.gpu_variants
     return [atomic.write_text(out / name, df.to_csv(index=False, float_format="%.17g")) for name, df in files.items()]
 
 
@@ -321,6 +337,7 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         thesis_note(results.thesis_metrics),
         tables.to_markdown(by_slug["thesis-metrics-recomputed"]),
         _cost_section(by_slug, figures, out),
+        _gpu_variants_section(by_slug),
         _occupancy_section(by_slug, results.occupancy),
         "## Frame budget\n",
         tables.to_markdown(by_slug["frame-budget"]),
@@ -371,6 +388,26 @@ def _cost_section(by_slug: dict[str, tables.Table], figures: dict[str, list[Path
     )
 
 
+def _gpu_variants_section(by_slug: dict[str, tables.Table]) -> str:
+    """The GPU renderer's variants side by side, where the run has more than the default one."""
+    if "gpu-variants" not in by_slug:
+        return ""
+    return "\n".join([f"## {GPU_VARIANTS_TITLE}\n", GPU_VARIANTS_TEXT, tables.to_markdown(by_slug["gpu-variants"])])
+
+
+GPU_VARIANTS_TITLE = "GPU traversal variants"
+GPU_VARIANTS_TEXT = """The GPU renderer in each of its variants: the BVH its shader walks
+(`binary`, or `wide`: the 8-wide tree), how its invocations get their rays
+(`pixel`: one per pixel; `persistent`: persistent threads fetching rays from
+a global counter) and the path (`megakernel`: one dispatch follows every
+bounce; `wavefront`: one dispatch per bounce depth over a compacted queue of
+live rays), compared by their device time (gpu_ms), not render_ms: the
+host's time around a submit and a wait is mostly not the tracing at these
+frame times. Descriptions: schema/rt_schema.json's gpu_bvhs, gpu_schedules,
+gpu_paths.
+"""
+
+
 OCCUPANCY_TITLE = "Lane occupancy (the thesis' masking waste, measured)"
 # Above this masked share most of the vector work is thrown away: the thesis' hypothesis holds.
 MOSTLY_MASKED = 0.5
@@ -394,6 +431,8 @@ def occupancy_statement(occupancy: pd.DataFrame) -> str:
         "occupies all its lanes, and the masked share is the part of them whose work was thrown away. 0% would be "
         f"SIMD without waste; above {MOSTLY_MASKED:.0%} most of the vector work is wasted, as the thesis supposed. "
     )
+    if (occupancy[names.RENDERER] == names.GPU_RENDERER).any():
+        text += GPU_OCCUPANCY_TEXT
     if shares.empty:
         return text + "No configuration of this run recorded a vector step.\n"
     low = shares.loc[shares[metrics.MASKED_SHARE].idxmin()]
@@ -404,6 +443,13 @@ def occupancy_statement(occupancy: pd.DataFrame) -> str:
         f"the share ranges from {tables.fmt_percent(low[metrics.MASKED_SHARE])} ({stats.config_label(low)}) to "
         f"{tables.fmt_percent(high[metrics.MASKED_SHARE])} ({stats.config_label(high)}).\n"
     )
+
+
+GPU_OCCUPANCY_TEXT = (
+    "On the GPU a subgroup (a warp) runs its invocations in lockstep, the same waste in another form: a loop "
+    "runs as often as its busiest invocation, and the others' lanes idle; the GPU renderer's counters measure "
+    "that share per subgroup. "
+)
 
 
 def _what_ran(inputs: ReportInputs, results: ReportResults) -> str:
@@ -481,12 +527,17 @@ def _reason(run: dict) -> str:
 
 
 def how_to_read(summary: pd.DataFrame) -> str:
-    """HOW_TO_READ, and what the run's traversals and counters add to the tables where it has them."""
+    """HOW_TO_READ, and what the run's traversals, GPU variants and counters
+    add to the tables where it has them."""
     extra = []
     if any(names.traversal_tag(t) for t in summary[names.TRAVERSAL]):
         extra.append(TRAVERSAL_NOTE)
+    if metrics.has_gpu_variants(summary):
+        extra.append(GPU_VARIANTS_NOTE)
     if metrics.MRAYS_PER_S in summary.columns:
         extra.append(COUNTERS_NOTE)
+        if (summary[metrics.MRAYS_TIME] == names.GPU_MS).any():
+            extra.append(GPU_COUNTERS_NOTE)
     return HOW_TO_READ + "".join(extra)
 
 
@@ -494,6 +545,16 @@ TRAVERSAL_NOTE = """- The accel column names the traversal where the SIMD kernel
   otherwise than in packets (`bvh single`: each ray alone through a wide BVH;
   `bvh hybridN`: packets until at most N lanes reach a node, then single
   rays); plain `bvh` is packets, the only way before the traversal axis.
+"""
+GPU_VARIANTS_NOTE = """- The accel column names the GPU renderer's variants where they are not the
+  defaults (binary BVH, one invocation per pixel, one dispatch per frame):
+  `bvh wide` walks the 8-wide BVH, `persistent` runs persistent threads,
+  `wavefront` one dispatch per bounce depth (`none persistent wavefront`,
+  `bvh wide persistent`, ...). Tables 1-4 and the comparisons with the
+  thesis show the default variant; the GPU section compares them all.
+"""
+GPU_COUNTERS_NOTE = """- The gpu renderer's **Mrays/s** divides by gpu_ms, the device time of the
+  frame's dispatches, instead of render_ms (the host's time around them).
 """
 COUNTERS_NOTE = """- Runs with `--counters` add **Mrays/s** to the summary table: the median
   over the measured frames of rays / render_ms / 1000, where rays counts every

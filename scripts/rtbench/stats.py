@@ -178,23 +178,28 @@ def coefficient_of_variation(values) -> float:
 
 
 def config_label(row) -> str:
-    """scene/renderer/stage[/tN][/lN][/accel[/traversal]]: a configuration's
-    name in warnings, with the threads and lanes where its renderer takes them,
-    the accel where it is not brute force and the traversal where it is not
-    packets (names.accel_tag)."""
+    """scene/renderer/stage[/tN][/lN][/accel[/traversal][/gpu variants]]: a
+    configuration's name in warnings, with the threads and lanes where its
+    renderer takes them, the accel where it is not brute force, the traversal
+    where it is not packets and the GPU variants where they are not the
+    defaults (names.accel_tag)."""
     options = "".join(f"/{option[0]}{value}" for option, value in names.label_options(row))
     accel = "".join(f"/{tag}" for tag in names.accel_tag(row))
     return f"{row[names.SCENE]}/{row[names.RENDERER]}/{row[names.STAGE]}{options}{accel}"
 
 
 def sort_configs(df: pd.DataFrame) -> pd.DataFrame:
-    """Stage, scene, renderer, accel, traversal (schema order where the schema has one), threads, lanes."""
+    """Stage, scene, renderer, accel, traversal, the GPU variants (schema order
+    where the schema has one), threads, lanes."""
+    gpu = {f"_{axis}": df[axis].map(lambda v, a=axis: names.gpu_order(a, v)) for axis in names.GPU_AXES}
     key = df.assign(
         _stage=df[names.STAGE].map(names.stage_order),
         _renderer=df[names.RENDERER].map(names.renderer_order),
         _accel=df[names.ACCEL].map(names.accel_order),
         _traversal=df[names.TRAVERSAL].map(names.traversal_order),
+        **gpu,
     )
-    order = ["_stage", names.SCENE, "_renderer", "_accel", "_traversal", names.THREADS, names.LANES, names.WIDTH]
+    helpers = ["_stage", "_renderer", "_accel", "_traversal", *gpu]
+    order = ["_stage", names.SCENE, "_renderer", "_accel", "_traversal", *gpu, names.THREADS, names.LANES, names.WIDTH]
     key = key.sort_values(order, kind="stable")
-    return key.drop(columns=["_stage", "_renderer", "_accel", "_traversal"]).reset_index(drop=True)
+    return key.drop(columns=helpers).reset_index(drop=True)

@@ -140,19 +140,37 @@ def sizes(summary: pd.DataFrame) -> list[tuple[int, int]]:
 def headline_rows(summary: pd.DataFrame) -> pd.DataFrame:
     """One configuration per (scene, renderer, stage, size, build) as the
     thesis ran it: brute force (accel none), and of those the one with the
-    most threads x lanes, i.e. the whole machine. All others stay in the
-    summary table."""
-    return widest_rows(summary[summary[names.ACCEL] == names.BRUTE_FORCE])
+    most threads x lanes, i.e. the whole machine, and the GPU renderer's
+    default variant (one_gpu_variant). All others stay in the summary table."""
+    return one_gpu_variant(widest_rows(summary[summary[names.ACCEL] == names.BRUTE_FORCE]))
+
+
+# What a configuration is but for its threads and lanes (widest_rows) or its GPU variant (one_gpu_variant).
+WORK_KEYS = [names.SCENE, names.RENDERER, names.STAGE, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD]
+SIZE_BUILD_KEYS = [names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
 
 
 def widest_rows(summary: pd.DataFrame) -> pd.DataFrame:
-    """One configuration per (scene, renderer, stage, accel, traversal, size,
-    build): the one with the most threads x lanes (ties: the most lanes)."""
+    """One configuration per (scene, renderer, stage, accel, traversal, GPU
+    variant, size, build): the one with the most threads x lanes (ties: the
+    most lanes)."""
     df = summary.assign(_p=summary[names.THREADS] * summary[names.LANES].clip(lower=1))
     df = df.sort_values(["_p", names.LANES], ascending=False, kind="stable")
-    keys = [names.SCENE, names.RENDERER, names.STAGE, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD]
-    keys += [names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
-    return df.drop_duplicates(keys).drop(columns="_p")
+    return df.drop_duplicates([*WORK_KEYS, *names.GPU_AXES, *SIZE_BUILD_KEYS]).drop(columns="_p")
+
+
+def one_gpu_variant(rows: pd.DataFrame) -> pd.DataFrame:
+    """The rows less all but one GPU variant of each configuration: the
+    default variant (names.gpu_tag empty: the way the GPU renderer ran before
+    its variants) where it ran, else the first in the schema's order. Rows
+    keep their order."""
+    rank = [
+        tuple(names.gpu_order(axis, value) for axis, value in zip(names.GPU_AXES, values))
+        for values in zip(*(rows[axis] for axis in names.GPU_AXES))
+    ]
+    ranked = rows.assign(_rank=rank).sort_values("_rank", kind="stable")
+    kept = ranked.drop_duplicates([*WORK_KEYS, *SIZE_BUILD_KEYS]).index
+    return rows.loc[rows.index.isin(kept)]
 
 
 def _at_size(df: pd.DataFrame, size: tuple[int, int]) -> pd.DataFrame:
@@ -346,8 +364,10 @@ CONFIG_COLUMNS = [
 
 
 def accel_text(d: dict) -> str:
-    """The accel, and the traversal where it is not packets: 'bvh', 'bvh single', 'bvh hybrid8'."""
-    return " ".join([d[names.ACCEL], *names.traversal_tag(d.get(names.TRAVERSAL, ""), d.get(names.HYBRID_THRESHOLD))])
+    """The accel, the traversal where it is not packets and the GPU variants
+    where they are not the defaults (names.variant_tag): 'bvh', 'bvh single',
+    'bvh hybrid8', 'bvh wide persistent', 'none wavefront'."""
+    return " ".join([d[names.ACCEL], *names.variant_tag(d)])
 
 
 def _config_columns(leave_out: tuple[str, ...] = ()) -> list[tuple]:
@@ -497,6 +517,8 @@ def summary_table(summary: pd.DataFrame) -> Table:
     ]
     if rate:
         notes.append(MRAYS_NOTE)
+        if (summary[metrics.MRAYS_TIME] == names.GPU_MS).any():
+            notes.append(GPU_MRAYS_NOTE)
     return Table(
         "summary",
         "Every configuration: render time per frame [ms]",
@@ -515,6 +537,10 @@ MRAYS_NOTE = (
     "Mrays/s = median over the measured frames of rays / render_ms / 1000: millions of rays (every bounce "
     f"depth) per second of the Render phase, from the --counters runs; {MISSING} = a configuration without counters."
 )
+GPU_MRAYS_NOTE = (
+    "For the gpu renderer Mrays/s divides by gpu_ms instead, the device time of the frame's dispatches "
+    "(data/summary.csv's mrays_time names the column used)."
+)
 
 
 # The configuration columns of the lane-occupancy table: what changes the
@@ -523,9 +549,9 @@ OCCUPANCY_LEAVE_OUT = ("threads", "target / device")
 
 
 def lane_occupancy(occupancy: pd.DataFrame) -> Table:
-    """The SIMD kernel's lane work per configuration with counters
-    (metrics.lane_occupancy): rays and node visits per frame, each kind's
-    occupancy and the masked share of all of it."""
+    """The lane work per configuration with counters (metrics.lane_occupancy),
+    the SIMD kernel's and the GPU renderer's: rays and node visits per frame,
+    each kind's occupancy and the masked share of all of it."""
     rows = []
     for r in occupancy.itertuples(index=False):
         d = r._asdict()
@@ -542,9 +568,12 @@ def lane_occupancy(occupancy: pd.DataFrame) -> Table:
             ]
         )
     headers, align = _config_headers(leave_out=OCCUPANCY_LEAVE_OUT)
+    on_gpu = (occupancy[names.RENDERER] == names.GPU_RENDERER).any()
     return Table(
         "lane-occupancy",
-        "Lane occupancy of the SIMD kernel: the share of vector lanes doing work that counts",
+        "Lane occupancy of the SIMD kernel and the GPU's subgroups: the share of lanes doing work that counts"
+        if on_gpu
+        else "Lane occupancy of the SIMD kernel: the share of vector lanes doing work that counts",
         [
             headers[0],
             "early exits",
@@ -565,7 +594,53 @@ def lane_occupancy(occupancy: pd.DataFrame) -> Table:
             "node visits (rays reaching the box, or child slots holding a child), sphere tests (rays still searching, "
             "or spheres of a leaf) and shading (rays that hit a sphere); "
             f"{MISSING} = no such step. Masked share = 1 - (sum of active lanes) / (sum of lane slots) over all "
-            "three: the share of the lane work that was masked off."
+            "three: the share of the lane work that was masked off.",
+            *([GPU_OCCUPANCY_NOTE] if on_gpu else []),
+        ],
+    )
+
+
+GPU_OCCUPANCY_NOTE = (
+    "gpu: the lanes are a subgroup's invocations, which run a loop as often as the busiest of them: a kind's slots "
+    "are the subgroup size times the busiest invocation's steps in each search (shading: per subgroup and bounce "
+    "depth), its active lanes the steps the invocations took (schema/rt_schema.json's counter columns)."
+)
+
+
+def gpu_variants(variants: pd.DataFrame) -> Table:
+    """The GPU renderer's variants (metrics.gpu_variants): median gpu_ms of
+    each and its speedup over the default variant of the same configuration."""
+    rows = []
+    for r in variants.itertuples(index=False):
+        d = r._asdict()
+        rows.append(
+            [
+                d[names.STAGE],
+                d[names.SCENE],
+                d[names.ACCEL],
+                f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
+                *(d[axis] or MISSING for axis in names.GPU_AXES),
+                fmt_int(d["n"]),
+                fmt_ms(d[metrics.GPU_MS_MEDIAN]),
+                f"[{fmt_ms(d[metrics.GPU_MS_CI_LOW])}, {fmt_ms(d[metrics.GPU_MS_CI_HIGH])}]",
+                fmt_fixed(d[metrics.SPEEDUP_OVER_DEFAULT], 2),
+            ]
+        )
+    default = " / ".join(default for _, default in names.GPU_AXIS_VALUES.values())
+    devices = sorted({d for d in variants[names.DEVICE] if d})
+    return Table(
+        "gpu-variants",
+        "The GPU renderer's variants: device time per frame [ms]",
+        ["stage", "scene", names.ACCEL, "size", "BVH", "schedule", "path", "n", "gpu_ms", "95% CI", "× default"],
+        rows,
+        "lllllll" + "rrlr",
+        [
+            "gpu_ms = median device time of the frame's render dispatches (GPU timestamps; a wavefront frame's "
+            "dispatches summed) over the measured frames of all repetitions; CI = bootstrap 95% CI of the median. "
+            f"× default = the default variant's median ({default}: the one the renderer ran before its variants) "
+            f"over this one's, at the same stage, scene, accel and size (> 1: faster), {MISSING} where the default "
+            f"did not run. BVH {MISSING}: accel {names.BRUTE_FORCE}, no BVH to walk."
+            + (f" Device: {', '.join(devices)}." if devices else "")
         ],
     )
 

@@ -32,6 +32,9 @@ class SyntheticConfig:
     accel: str = names.BRUTE_FORCE
     traversal: str = ""
     hybrid_threshold: int | None = None
+    gpu_bvh: str = ""
+    gpu_schedule: str = ""
+    gpu_path: str = ""
 
     @property
     def id(self) -> str:
@@ -56,6 +59,9 @@ class SyntheticConfig:
             names.ACCEL: self.accel,
             names.TRAVERSAL: self.traversal,
             names.HYBRID_THRESHOLD: "" if self.hybrid_threshold is None else self.hybrid_threshold,
+            names.GPU_BVH: self.gpu_bvh,
+            names.GPU_SCHEDULE: self.gpu_schedule,
+            names.GPU_PATH: self.gpu_path,
             names.WIDTH: self.width,
             names.HEIGHT: self.height,
         }
@@ -163,7 +169,8 @@ def write_run_dir(
     """A run directory: for each configuration one run per list of render
     times (the first `warmup` of each are warm-up frames), every frame's
     Present phase taking `present_ms`; `counters`: for a configuration, each
-    counter column's value per frame (the same in every repetition)."""
+    counter column's value per frame (the same in every repetition), and
+    other per-frame columns such as gpu_ms likewise."""
     env = env or Environment()
     entries = []
     for config, repetitions in runs.items():

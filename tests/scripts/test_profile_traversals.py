@@ -82,10 +82,10 @@ def test_hybrid_without_thresholds_runs_the_kernels_default():
     assert config.id.endswith("-bvh-hybrid") and configurations.HYBRID_THRESHOLD_FLAG not in argv(config)
 
 
-def test_counters_reach_the_simd_kernel_only():
+def test_counters_reach_the_simd_kernel_and_the_gpu_renderer_only():
     configs = expand(accels=["none", "bvh"], counters=True, renderers=EVERY_RENDERER)
     counting = {c.renderer for c in configs if configurations.COUNTERS_FLAG in argv(c)}
-    assert counting == {"simd_tbb", "simd_only"}
+    assert counting == {"simd_tbb", "simd_only", "gpu"}
     assert all(c.counters == (c.renderer in counting) for c in configs)
     assert not any(configurations.COUNTERS_FLAG in argv(c) for c in expand(renderers=EVERY_RENDERER))
 
@@ -132,7 +132,7 @@ def test_bad_traversal_and_counter_keys_name_the_file_and_key(keys, message):
     "keys, message",
     [
         ({"traversals": ["single"]}, "and this profile has no such renderer"),
-        ({"counters": True}, "counters: only the renderers of the simd kernel (simd_tbb, simd_only) count"),
+        ({"counters": True}, "counters: only the renderers that count (simd_tbb, simd_only, gpu) take it"),
     ],
 )
 def test_traversals_and_counters_must_reach_a_renderer_that_takes_them(keys, message):

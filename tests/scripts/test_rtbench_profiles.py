@@ -292,9 +292,16 @@ def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow
             ):
                 assert max(counts) <= 1000, f"scalar {renderer} stays at small N"
     for n in (100000, 1000000):
-        largest = [(c.renderer, c.accel, c.traversal) for c in configs if _spheres(c) == n]
+        largest = [
+            (c.renderer, c.accel, c.traversal or "/".join(filter(None, c.gpu_axes.values())))
+            for c in configs
+            if _spheres(c) == n
+        ]
         every_traversal = [("simd_tbb", "bvh", t) for t in names.TRAVERSALS]
-        assert sorted(largest) == sorted([("embree", "bvh", ""), ("gpu", "bvh", ""), *every_traversal]), n
+        every_gpu_variant = [
+            ("gpu", "bvh", f"{b}/{s}/{p}") for b in names.GPU_BVHS for s in names.GPU_SCHEDULES for p in names.GPU_PATHS
+        ]
+        assert sorted(largest) == sorted([("embree", "bvh", ""), *every_gpu_variant, *every_traversal]), n
     # The traversal axis: simd_tbb's BVH at every count, simd_only's in packets only.
     for renderer, walks in (("simd_tbb", set(names.TRAVERSALS)), ("simd_only", {names.PACKET})):
         assert {c.traversal for c in configs if c.renderer == renderer and c.accel == "bvh"} == walks
