@@ -201,17 +201,13 @@ void testWideLeaf(Ray ray, uint child) {
   if (COUNTERS) searchSpheres += count;
 }
 
-// Pushes a child the ray reaches, farther ones deeper among those the same
-// node pushed (from `firstPushed`), so that nearer ones pop first.
-void pushWideChild(uint child, float entry, int firstPushed) {
-  int at = wideStackTop++;
-  while (at > firstPushed && wideStackEntry[at - 1] < entry) {
-    wideStackChild[at] = wideStackChild[at - 1];
-    wideStackEntry[at] = wideStackEntry[at - 1];
-    --at;
-  }
-  wideStackChild[at] = child;
-  wideStackEntry[at] = entry;
+// Pushes a child the ray reaches. Unsorted: inserting it among the ones the
+// same node pushed, farther ones deeper, kept the stack in local memory
+// busier and measured 15 % slower on the H100 (docs/render-model.md section 3).
+void pushWideChild(uint child, float entry) {
+  wideStackChild[wideStackTop] = child;
+  wideStackEntry[wideStackTop] = entry;
+  ++wideStackTop;
 }
 
 // The slab test of four children's boxes (one vec4 per plane), widened by
@@ -235,16 +231,16 @@ bvec4 wideBoxesReachable(uint base, uint upper, Ray ray, vec3 inverse, float pad
 // on as `next`, the others onto the stack. Slots past the node's child count
 // hold an empty box (lo +inf, hi -inf), which the min/max slab test would
 // not reject, so they are skipped by the count.
-void considerWideChild(bool reach, float entry, uint slot, uint base, uint childCount, int firstPushed,
-                       inout uint next, inout float nextEntry) {
+void considerWideChild(bool reach, float entry, uint slot, uint base, uint childCount, inout uint next,
+                       inout float nextEntry) {
   if (!reach || slot >= childCount) return;
   uint child = floatBitsToUint(wideNodes[base + WIDE_CHILD_WORDS + slot / 4u][slot % 4u]);
   if (entry < nextEntry) {
-    if (nextEntry != 1.0 / 0.0) pushWideChild(next, nextEntry, firstPushed);
+    if (nextEntry != 1.0 / 0.0) pushWideChild(next, nextEntry);
     next = child;
     nextEntry = entry;
   } else {
-    pushWideChild(child, entry, firstPushed);
+    pushWideChild(child, entry);
   }
 }
 
@@ -257,12 +253,11 @@ bool visitWideNode(uint node, Ray ray, vec3 inverse, float pad, out uint next) {
   vec4 entryLow, entryHigh;
   bvec4 low = wideBoxesReachable(base, 0u, ray, inverse, pad, entryLow);
   bvec4 high = wideBoxesReachable(base, 1u, ray, inverse, pad, entryHigh);
-  int firstPushed = wideStackTop;
   float nextEntry = 1.0 / 0.0;
   next = 0u;
   for (uint i = 0u; i < 4u; ++i) {
-    considerWideChild(low[i], entryLow[i], i, base, childCount, firstPushed, next, nextEntry);
-    considerWideChild(high[i], entryHigh[i], i + 4u, base, childCount, firstPushed, next, nextEntry);
+    considerWideChild(low[i], entryLow[i], i, base, childCount, next, nextEntry);
+    considerWideChild(high[i], entryHigh[i], i + 4u, base, childCount, next, nextEntry);
   }
   return nextEntry != 1.0 / 0.0;
 }
