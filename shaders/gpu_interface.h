@@ -27,6 +27,8 @@
 #define RT_BINDING_PATH_STATE 9
 #define RT_BINDING_SEGMENTS 10
 #define RT_BINDING_CONTROL 11
+// --accel bvh: the leaves' spheres in leaf order (of the BVH walked).
+#define RT_BINDING_LEAF_SPHERES 12
 
 // Specialization constants: fixed per pipeline, so the compiler removes the
 // branches of the variants that are not used (as the C++ templates do).

@@ -113,62 +113,106 @@ vec3 inverseDirection(vec3 d) {
   return 1.0 / mix(d, signedTiny, lessThan(abs(d), vec3(tiny)));
 }
 
-// Whether the ray may meet a sphere inside the node's box, widened by
-// `pad`, nearer than `best` (+ pad): the CPU kernels' slab test.
-bool boxReachable(GPUBvhNode node, Ray ray, vec3 inverse, float pad, float best) {
-  vec3 t0 = (uintBitsToFloat(node.loFirst.xyz) - pad - ray.origin) * inverse;
-  vec3 t1 = (uintBitsToFloat(node.hiMeta.xyz) + pad - ray.origin) * inverse;
+// The best hit of the search under way, shared by the functions of both
+// walks: its distance and sphere index.
+float searchBest;
+int searchBestIndex;
+
+// Whether the ray may meet a sphere inside the box lo..hi, widened by
+// `pad`, nearer than the best hit (+ pad): the CPU kernels' slab test; and
+// the distance at which it enters the box.
+bool boxReachable(vec3 lo, vec3 hi, Ray ray, vec3 inverse, float pad, out float entry) {
+  vec3 t0 = (lo - pad - ray.origin) * inverse;
+  vec3 t1 = (hi + pad - ray.origin) * inverse;
   vec3 near = min(t0, t1);
   vec3 far = max(t0, t1);
-  float tmin = max(max(near.x, near.y), near.z);
-  float tmax = min(min(far.x, far.y), far.z);
-  return tmin <= tmax && tmax >= -pad && tmin <= best + pad;
+  entry = max(max(near.x, near.y), near.z);
+  float leave = min(min(far.x, far.y), far.z);
+  return entry <= leave && leave >= -pad && entry <= searchBest + pad;
 }
 
-// With the BVH: the same nearest hit as brute force. The same
-// intersectSphere gives each sphere the same t; spheres come in tree order,
-// so an exact tie is settled by the index rather than by the visit order.
-// Near child first, a fixed stack: a node pops before its two children
-// push, so depth + 1 entries suffice.
-RaycastHit nearestHitInBvh(Ray ray) {
-  vec3 inverse = inverseDirection(ray.direction);
-  float pad = traversalPad(ray.origin);
-  float best = 1.0 / 0.0;  // +infinity
-  int bestIndex = -1;
-  uint stack[RT_BVH_MAX_DEPTH + 2];
-  int top = 0;
-  stack[top++] = 0u;
-  while (top > 0) {
-    GPUBvhNode node = bvhNodes[stack[--top]];
-    if (COUNTERS) ++searchNodes;
-    if (!boxReachable(node, ray, inverse, pad, best)) continue;
-    uint first = node.loFirst.w;
-    uint count = node.hiMeta.w & RT_BVH_COUNT_MASK;
-    if (count == 0u) {
-      bool negative = ray.direction[node.hiMeta.w >> 30] < 0.0;
-      stack[top++] = first + (negative ? 0u : 1u);  // far child
-      stack[top++] = first + (negative ? 1u : 0u);  // near child, visited next
-      continue;
-    }
-    for (uint k = first; k < first + count; ++k) {
-      int index = int(bvhOrder[k]);
-      if (COUNTERS) ++searchSpheres;
-      float t = intersectSphere(ray, spheres[index].positionRadius);
-      if (t > EPS && (t < best || (t == best && index < bestIndex))) {
-        best = t;
-        bestIndex = index;
+// The scene index of leaf slot k of the BVH walked.
+int leafSphereIndex(uint k) { return WIDE_BVH ? wideIndex[k] : int(bvhOrder[k]); }
+
+// A leaf: its `count` spheres from slot `first` in leaf order. The same
+// intersectSphere gives each sphere the same t as brute force; an exact
+// tie goes to the lower index, so the visit order cannot change the hit.
+void testLeaf(Ray ray, uint first, uint count) {
+  for (uint k = first; k < first + count; ++k) {
+    float t = intersectSphere(ray, leafSpheres[k]);
+    if (t > EPS && t <= searchBest) {
+      int index = leafSphereIndex(k);
+      if (t < searchBest || index < searchBestIndex) {
+        searchBest = t;
+        searchBestIndex = index;
       }
     }
   }
-  return hitRecord(ray, best, bestIndex);
+  if (COUNTERS) searchSpheres += count;
 }
 
+// One child of a binary node: where it is reachable and a leaf, its spheres
+// are tested at once (and it is reachable no more).
+bool leafTestedOrReachable(bool reach, uint child, uint count, Ray ray) {
+  if (!reach || count == 0u) return reach;
+  testLeaf(ray, child, count);
+  return false;
+}
+
+// With the binary BVH: the same nearest hit as brute force. A visit tests
+// an inner node's two children's boxes (stored in the node, Aila and
+// Laine's layout), tests the leaves among them at once, goes on to the
+// nearer inner child reached and pushes the other with its entry distance;
+// a pop skips an entry the ray can no longer reach nearer than its best hit
+// (+ pad). One push per level: the tree's depth + 1 entries suffice.
+RaycastHit nearestHitInBvh(Ray ray) {
+  vec3 inverse = inverseDirection(ray.direction);
+  float pad = traversalPad(ray.origin);
+  searchBest = 1.0 / 0.0;  // +infinity
+  searchBestIndex = -1;
+  uint stackNode[RT_BVH_MAX_DEPTH + 2];
+  float stackEntry[RT_BVH_MAX_DEPTH + 2];
+  int top = 0;
+  uint node = 0u;  // the root
+  while (true) {
+    if (COUNTERS) ++searchNodes;
+    uvec4 lo0 = bvhNodes[node * 4u], hi0 = bvhNodes[node * 4u + 1u];
+    uvec4 lo1 = bvhNodes[node * 4u + 2u], hi1 = bvhNodes[node * 4u + 3u];
+    float entry0, entry1;
+    bool reach0 = boxReachable(uintBitsToFloat(lo0.xyz), uintBitsToFloat(hi0.xyz), ray, inverse, pad, entry0);
+    bool reach1 = boxReachable(uintBitsToFloat(lo1.xyz), uintBitsToFloat(hi1.xyz), ray, inverse, pad, entry1);
+    reach0 = leafTestedOrReachable(reach0, lo0.w, hi0.w, ray);
+    reach1 = leafTestedOrReachable(reach1, lo1.w, hi1.w, ray);
+    if (reach0 && reach1) {
+      bool nearFirst = entry0 <= entry1;
+      stackNode[top] = nearFirst ? lo1.w : lo0.w;
+      stackEntry[top] = nearFirst ? entry1 : entry0;
+      ++top;
+      node = nearFirst ? lo0.w : lo1.w;
+      continue;
+    }
+    if (reach0 || reach1) {
+      node = reach0 ? lo0.w : lo1.w;
+      continue;
+    }
+    bool popped = false;
+    while (top > 0 && !popped) {
+      --top;
+      popped = stackEntry[top] <= searchBest + pad;
+      node = stackNode[top];
+    }
+    if (!popped) break;
+  }
+  return hitRecord(ray, searchBest, searchBestIndex);
+}
 
 // The wide BVH (--gpu-bvh wide) ==============================================================
 // rt::WideBvh (src/render/accel/wide_bvh.h) as the single traversal of the
 // SIMD kernel walks it: a 256-byte node holds the boxes of up to eight
 // children by plane (lo x, y, z, hi x, y, z; 8 floats each), then their
-// child words (rt::WideChild), then the child count. Read as 16 vec4s.
+// child words (rt::WideChild), then the child count. Read as 16 uvec4s
+// (the words come through untouched; the bounds are reinterpreted). A
+// leaf's spheres are the leaf slots of its block (8 per block) in leafSpheres.
 const uint WIDE_NODE_VEC4S = 16u;
 const uint WIDE_CHILD_WORDS = 12u;  // the vec4s holding the child words
 const uint WIDE_CHILD_COUNT = 14u;  // the vec4 whose x holds the child count
@@ -176,30 +220,12 @@ const uint WIDE_LEAF_BIT = 0x80000000u;
 const uint WIDE_BLOCK_MASK = 0x0fffffffu;
 const uint WIDE_WIDTH = 8u;
 
-// The search's state, kept outside the functions so that they share it
-// without copying the stack: the nearest hit so far and the stack of
-// children still to visit with the distance at which the ray enters each.
-float wideBest;
-int wideBestIndex;
+// The stack of children still to visit with the distance at which the ray
+// enters each, kept outside the functions so that they share it without
+// copying it.
 uint wideStackChild[WIDE_STACK_SIZE];
 float wideStackEntry[WIDE_STACK_SIZE];
 int wideStackTop;
-
-// A leaf: its spheres, the scene's indices in rt::WideBvh::index, in one
-// loop; the tie rule makes the result independent of the visit order.
-void testWideLeaf(Ray ray, uint child) {
-  uint first = (child & WIDE_BLOCK_MASK) * WIDE_WIDTH;
-  uint count = ((child >> 28) & 7u) + 1u;
-  for (uint k = first; k < first + count; ++k) {
-    int index = wideIndex[k];
-    float t = intersectSphere(ray, spheres[index].positionRadius);
-    if (t > EPS && (t < wideBest || (t == wideBest && index < wideBestIndex))) {
-      wideBest = t;
-      wideBestIndex = index;
-    }
-  }
-  if (COUNTERS) searchSpheres += count;
-}
 
 // Pushes a child the ray reaches. Unsorted: inserting it among the ones the
 // same node pushed, farther ones deeper, kept the stack in local memory
@@ -214,16 +240,16 @@ void pushWideChild(uint child, float entry) {
 // `pad` as boxReachable() widens a binary node's: which of them the ray may
 // meet nearer than the best hit + pad, and where it enters each.
 bvec4 wideBoxesReachable(uint base, uint upper, Ray ray, vec3 inverse, float pad, out vec4 entry) {
-  vec4 t0x = (wideNodes[base + 0u + upper] - pad - ray.origin.x) * inverse.x;
-  vec4 t0y = (wideNodes[base + 2u + upper] - pad - ray.origin.y) * inverse.y;
-  vec4 t0z = (wideNodes[base + 4u + upper] - pad - ray.origin.z) * inverse.z;
-  vec4 t1x = (wideNodes[base + 6u + upper] + pad - ray.origin.x) * inverse.x;
-  vec4 t1y = (wideNodes[base + 8u + upper] + pad - ray.origin.y) * inverse.y;
-  vec4 t1z = (wideNodes[base + 10u + upper] + pad - ray.origin.z) * inverse.z;
+  vec4 t0x = (uintBitsToFloat(wideNodes[base + 0u + upper]) - pad - ray.origin.x) * inverse.x;
+  vec4 t0y = (uintBitsToFloat(wideNodes[base + 2u + upper]) - pad - ray.origin.y) * inverse.y;
+  vec4 t0z = (uintBitsToFloat(wideNodes[base + 4u + upper]) - pad - ray.origin.z) * inverse.z;
+  vec4 t1x = (uintBitsToFloat(wideNodes[base + 6u + upper]) + pad - ray.origin.x) * inverse.x;
+  vec4 t1y = (uintBitsToFloat(wideNodes[base + 8u + upper]) + pad - ray.origin.y) * inverse.y;
+  vec4 t1z = (uintBitsToFloat(wideNodes[base + 10u + upper]) + pad - ray.origin.z) * inverse.z;
   entry = max(max(min(t0x, t1x), min(t0y, t1y)), min(t0z, t1z));
   vec4 leave = min(min(max(t0x, t1x), max(t0y, t1y)), max(t0z, t1z));
   uvec4 reach = uvec4(lessThanEqual(entry, leave)) * uvec4(greaterThanEqual(leave, vec4(-pad))) *
-                uvec4(lessThanEqual(entry, vec4(wideBest + pad)));
+                uvec4(lessThanEqual(entry, vec4(searchBest + pad)));
   return equal(reach, uvec4(1u));
 }
 
@@ -234,7 +260,7 @@ bvec4 wideBoxesReachable(uint base, uint upper, Ray ray, vec3 inverse, float pad
 void considerWideChild(bool reach, float entry, uint slot, uint base, uint childCount, inout uint next,
                        inout float nextEntry) {
   if (!reach || slot >= childCount) return;
-  uint child = floatBitsToUint(wideNodes[base + WIDE_CHILD_WORDS + slot / 4u][slot % 4u]);
+  uint child = wideNodes[base + WIDE_CHILD_WORDS + slot / 4u][slot % 4u];
   if (entry < nextEntry) {
     if (nextEntry != 1.0 / 0.0) pushWideChild(next, nextEntry);
     next = child;
@@ -249,7 +275,7 @@ void considerWideChild(bool reach, float entry, uint slot, uint base, uint child
 bool visitWideNode(uint node, Ray ray, vec3 inverse, float pad, out uint next) {
   if (COUNTERS) ++searchNodes;
   uint base = node * WIDE_NODE_VEC4S;
-  uint childCount = floatBitsToUint(wideNodes[base + WIDE_CHILD_COUNT].x);
+  uint childCount = wideNodes[base + WIDE_CHILD_COUNT].x;
   vec4 entryLow, entryHigh;
   bvec4 low = wideBoxesReachable(base, 0u, ray, inverse, pad, entryLow);
   bvec4 high = wideBoxesReachable(base, 1u, ray, inverse, pad, entryHigh);
@@ -267,7 +293,7 @@ bool visitWideNode(uint node, Ray ray, vec3 inverse, float pad, out uint next) {
 bool popWideChild(float pad, out uint child) {
   while (wideStackTop > 0) {
     --wideStackTop;
-    if (wideStackEntry[wideStackTop] <= wideBest + pad) {
+    if (wideStackEntry[wideStackTop] <= searchBest + pad) {
       child = wideStackChild[wideStackTop];
       return true;
     }
@@ -282,20 +308,20 @@ bool popWideChild(float pad, out uint child) {
 RaycastHit nearestHitInWideBvh(Ray ray) {
   vec3 inverse = inverseDirection(ray.direction);
   float pad = traversalPad(ray.origin);
-  wideBest = 1.0 / 0.0;  // +infinity
-  wideBestIndex = -1;
+  searchBest = 1.0 / 0.0;  // +infinity
+  searchBestIndex = -1;
   wideStackTop = 0;
   uint current = 0u;  // the root, an inner node
   bool haveCurrent = true;
   while (haveCurrent || popWideChild(pad, current)) {
     if ((current & WIDE_LEAF_BIT) != 0u) {
-      testWideLeaf(ray, current);
+      testLeaf(ray, (current & WIDE_BLOCK_MASK) * WIDE_WIDTH, ((current >> 28) & 7u) + 1u);
       haveCurrent = false;
     } else {
       haveCurrent = visitWideNode(current, ray, inverse, pad, current);
     }
   }
-  return hitRecord(ray, wideBest, wideBestIndex);
+  return hitRecord(ray, searchBest, searchBestIndex);
 }
 
 // The one spatial query of the shader; the variant is fixed per pipeline.

@@ -63,22 +63,24 @@ layout(std430, set = 0, binding = RT_BINDING_SPHERES) readonly buffer Spheres {
   GPUSphere spheres[];
 };
 
-// Mirrored by rt::BvhNode (src/render/accel/bvh.h, asserted in
-// src/gpu/compute/gpu_layout.h): 32 bytes, {vec3 lo; uint first; vec3 hi; uint meta}.
-// Read as two uvec4s for the same one-load-per-half reason as GPUSphere;
-// uints, not floats, so that the counts and indices (denormals as floats)
-// come through untouched, and the bounds are reinterpreted as floats.
-struct GPUBvhNode {
-  uvec4 loFirst;  // xyz: lower bounds, w: first (leaf: slot in order, inner: left child)
-  uvec4 hiMeta;   // xyz: upper bounds, w: leaf sphere count, or split axis << 30
-};
-
+// --accel bvh, --gpu-bvh binary: rt::gpu::GpuBinaryNode (gpu_layout.h),
+// 64 bytes per inner node of rt::Bvh holding its two children's boxes, as
+// four uvec4s: {child 0's lo, its word}, {child 0's hi, its leaf sphere
+// count (0: inner)}, and the same for child 1. uints, not floats, so that
+// the words and counts (denormals as floats) come through untouched; the
+// bounds are reinterpreted as floats.
 // Slots a variant does not use name the sphere buffer and are never read.
 layout(std430, set = 0, binding = RT_BINDING_BVH_NODES) readonly buffer BvhNodes {
-  GPUBvhNode bvhNodes[];
+  uvec4 bvhNodes[];
 };
 layout(std430, set = 0, binding = RT_BINDING_BVH_ORDER) readonly buffer BvhOrder {
   uint bvhOrder[];  // sphere indices, leaf by leaf
+};
+// The spheres of the BVH's leaves (position, radius) in leaf order: the
+// binary tree's order, or the wide tree's leaf slots; a leaf's spheres are
+// read without going through their indices, which are read only for a hit.
+layout(std430, set = 0, binding = RT_BINDING_LEAF_SPHERES) readonly buffer LeafSpheres {
+  vec4 leafSpheres[];
 };
 
 layout(rgba8, set = 0, binding = RT_BINDING_OUTPUT) uniform writeonly image2D outputImage;
@@ -91,10 +93,10 @@ layout(push_constant, std430) uniform FrameConstants {
   RT_FRAME_CONSTANTS(RT_GLSL_MEMBER)
 } pc;
 
-// The wide BVH's nodes (16 vec4s each, nearest_hit.glsl) and the scene
+// The wide BVH's nodes (16 uvec4s each, nearest_hit.glsl) and the scene
 // index of each leaf slot.
 layout(std430, set = 0, binding = RT_BINDING_WIDE_NODES) readonly buffer WideNodes {
-  vec4 wideNodes[];
+  uvec4 wideNodes[];
 };
 layout(std430, set = 0, binding = RT_BINDING_WIDE_INDEX) readonly buffer WideIndex {
   int wideIndex[];

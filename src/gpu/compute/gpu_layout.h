@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <span>
 #include <vector>
 
@@ -33,16 +34,44 @@ static_assert(offsetof(GPUSphere, radius) == 12);
 static_assert(offsetof(GPUSphere, color) == 16);
 static_assert(offsetof(GPUSphere, pad) == 28);
 
-// The BVH goes to the shader as it is built: rt::BvhNode is already the
-// std430 layout the shader reads (two 16-byte halves, the uint after each
-// vec3), and the order array is plain uints. Its encoding and depth limit
-// are shaders/bvh_layout.h's, which both sides include.
-static_assert(sizeof(BvhNode) == 32);
-static_assert(offsetof(BvhNode, lo) == 0);
-static_assert(offsetof(BvhNode, first) == 12);
-static_assert(offsetof(BvhNode, hi) == 16);
-static_assert(offsetof(BvhNode, meta) == 28);
+// --gpu-bvh binary: each inner node of rt::Bvh as the shader walks it, with
+// its two children's boxes (Aila and Laine's layout: a visit tests both and
+// goes on without a stack round trip). A child's word is its node's index,
+// or for a leaf its first slot in Bvh::order with its sphere count beside
+// the box (0 for an inner child). Bvh's encoding and depth limit are
+// shaders/bvh_layout.h's, which both sides include.
+struct GpuBinaryNode {
+  glm::vec3 lo0;
+  std::uint32_t child0;
+  glm::vec3 hi0;
+  std::uint32_t count0;
+  glm::vec3 lo1;
+  std::uint32_t child1;
+  glm::vec3 hi1;
+  std::uint32_t count1;
+};
+static_assert(sizeof(GpuBinaryNode) == 64);
+static_assert(offsetof(GpuBinaryNode, child0) == 12 && offsetof(GpuBinaryNode, count0) == 28);
+static_assert(offsetof(GpuBinaryNode, child1) == 44 && offsetof(GpuBinaryNode, count1) == 60);
 static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t));
+
+// The nodes the shader walks, indexed as in bvh.nodes (a leaf's entry is
+// unused). A tree that is one leaf gets a root with that leaf as both
+// children: testing its spheres twice cannot change the nearest hit.
+std::vector<GpuBinaryNode> toGpuBinaryNodes(const Bvh& bvh);
+
+// The leaves' spheres as (position, radius) in leaf order: `order[k]`'s
+// sphere in slot k; a negative index (an unused wide leaf slot) gives zeros.
+template <typename Index>
+std::vector<glm::vec4> leafSpheres(std::span<const Sphere> spheres, std::span<const Index> order) {
+  std::vector<glm::vec4> out(order.size(), glm::vec4(0.0f));
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (order[k] < 0) continue;
+    const Sphere& s = spheres[static_cast<std::size_t>(order[k])];
+    out[k] = glm::vec4(s.position, s.radius);
+  }
+  return out;
+}
 
 // --gpu-bvh wide: rt::WideBvh's nodes go to the shader as built, 16 vec4s
 // each (shaders/nearest_hit.glsl): the six planes of 8 floats, the child

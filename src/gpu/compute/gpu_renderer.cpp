@@ -150,13 +150,19 @@ AccelStructure accelFor(const Scene& scene, const RenderOptions& options) {
   return accel;
 }
 
-// The BVH's nodes and sphere order on the device (--accel bvh only).
+// The BVH's nodes and sphere order on the device (--accel bvh only), and
+// the spheres of the leaves of the tree walked in leaf order.
 struct BvhBuffers {
-  BvhBuffers(const Device& device, CommandRunner& runner, const Bvh& bvh)
-      : nodes(uploadStorage(device, runner, std::span(bvh.nodes))),
-        order(uploadStorage(device, runner, std::span(bvh.order))) {}
+  BvhBuffers(const Device& device, CommandRunner& runner, const Bvh& bvh, std::span<const Sphere> spheres,
+             const WideBvh* wide)
+      : nodes(uploadStorage(device, runner, std::span<const GpuBinaryNode>(toGpuBinaryNodes(bvh)))),
+        order(uploadStorage(device, runner, std::span(bvh.order))),
+        leafSpheres(uploadStorage(device, runner,
+                                  std::span<const glm::vec4>(wide ? gpu::leafSpheres(spheres, std::span(wide->index))
+                                                                  : gpu::leafSpheres(spheres, std::span(bvh.order))))) {}
   Buffer nodes;
   Buffer order;
+  Buffer leafSpheres;
 };
 
 // --gpu-bvh wide: the wide tree collapsed from the binary one, on the device.
@@ -271,7 +277,9 @@ struct GPURenderer::SceneObjects {
         wide(wideBvhFor(s, o, accel.bvh())),
         pipeline(d.device, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
         spheres(uploadStorage(d.device, d.runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
-        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d.device, d.runner, *accel.bvh()) : std::nullopt),
+        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d.device, d.runner, *accel.bvh(), s.spheres,
+                                                                wide ? &*wide : nullptr)
+                               : std::nullopt),
         wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d.device, d.runner, *wide) : std::nullopt),
         counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d.device) : std::nullopt),
         scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d.device, s, e, o) : std::nullopt),
@@ -309,6 +317,7 @@ struct GPURenderer::SceneObjects {
     if (bvhBuffers) {
       buffers.bvhNodes = bvhBuffers->nodes.handle();
       buffers.bvhOrder = bvhBuffers->order.handle();
+      buffers.leafSpheres = bvhBuffers->leafSpheres.handle();
     }
     if (wideBuffers) {
       buffers.wideNodes = wideBuffers->nodes.handle();

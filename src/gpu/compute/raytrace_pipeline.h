@@ -63,10 +63,11 @@ struct SceneBuffers {
   vk::Buffer pathStates;
   vk::Buffer segments;
   vk::Buffer control;
+  vk::Buffer leafSpheres;
 
   // Every slot naming `spheres`, for the others to be set.
   static SceneBuffers allSpheres(vk::Buffer spheres) {
-    return {spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres};
+    return {spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres};
   }
 };
 
