@@ -294,10 +294,15 @@ bool visitWideNode(uint node, Ray ray, vec3 inverse, float pad, out uint next) {
   bvec4 high = wideBoxesReachable(base, 1u, origin, scale, ray, inverse, pad, entryHigh);
   float nextEntry = 1.0 / 0.0;
   next = 0u;
-  for (uint i = 0u; i < 4u; ++i) {
-    considerWideChild(low[i], entryLow[i], i, base, childCount, next, nextEntry);
-    considerWideChild(high[i], entryHigh[i], i + 4u, base, childCount, next, nextEntry);
-  }
+  // Written out slot by slot: the components by constant index stay in registers.
+  considerWideChild(low.x, entryLow.x, 0u, base, childCount, next, nextEntry);
+  considerWideChild(low.y, entryLow.y, 1u, base, childCount, next, nextEntry);
+  considerWideChild(low.z, entryLow.z, 2u, base, childCount, next, nextEntry);
+  considerWideChild(low.w, entryLow.w, 3u, base, childCount, next, nextEntry);
+  considerWideChild(high.x, entryHigh.x, 4u, base, childCount, next, nextEntry);
+  considerWideChild(high.y, entryHigh.y, 5u, base, childCount, next, nextEntry);
+  considerWideChild(high.z, entryHigh.z, 6u, base, childCount, next, nextEntry);
+  considerWideChild(high.w, entryHigh.w, 7u, base, childCount, next, nextEntry);
   return nextEntry != 1.0 / 0.0;
 }
 
