@@ -207,27 +207,18 @@ RaycastHit nearestHitInBvh(Ray ray) {
 }
 
 // The wide BVH (--gpu-bvh wide) ==============================================================
-// rt::WideBvh (src/render/accel/wide_bvh.h), the tree the SIMD kernel's
-// single traversal walks, compressed (rt::gpu::GpuWideNode): a 96-byte node
-// holds its grid's origin, the three axes' exponents and the child count,
-// then a byte per child and box plane (lo x, y, z, hi x, y, z; 8 children
-// each), then the child words (rt::WideChild). Read as 6 uvec4s. A leaf's
-// spheres are the leaf slots of its block (8 per block) in leafSpheres.
-const uint WIDE_NODE_VEC4S = 6u;
-const uint WIDE_PLANES = 1u;        // the first of the uvec4s holding the plane bytes
-const uint WIDE_CHILD_WORDS = 4u;   // the first of the two holding the child words
+// rt::WideBvh (src/render/accel/wide_bvh.h) as the single traversal of the
+// SIMD kernel walks it: a 256-byte node holds the boxes of up to eight
+// children by plane (lo x, y, z, hi x, y, z; 8 floats each), then their
+// child words (rt::WideChild), then the child count. Read as 16 uvec4s
+// (the words come through untouched; the bounds are reinterpreted). A
+// leaf's spheres are the leaf slots of its block (8 per block) in leafSpheres.
+const uint WIDE_NODE_VEC4S = 16u;
+const uint WIDE_CHILD_WORDS = 12u;  // the vec4s holding the child words
+const uint WIDE_CHILD_COUNT = 14u;  // the vec4 whose x holds the child count
 const uint WIDE_LEAF_BIT = 0x80000000u;
 const uint WIDE_BLOCK_MASK = 0x0fffffffu;
 const uint WIDE_WIDTH = 8u;
-
-// Four children's bound on box plane `plane` (0-5), children 0-3 or 4-7
-// (`upper`): origin + q * 2^e, as rt::gpu::decodePlane computes it.
-vec4 widePlane(uint base, uint plane, uint upper, float origin, float scale) {
-  uint word = plane * 2u + upper;
-  uint bytes = wideNodes[base + WIDE_PLANES + word / 4u][word % 4u];
-  uvec4 q = (uvec4(bytes) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu;
-  return origin + vec4(q) * scale;
-}
 
 // The stack of children still to visit with the distance at which the ray
 // enters each, kept outside the functions so that they share it without
@@ -248,14 +239,13 @@ void pushWideChild(uint child, float entry) {
 // The slab test of four children's boxes (one vec4 per plane), widened by
 // `pad` as boxReachable() widens a binary node's: which of them the ray may
 // meet nearer than the best hit + pad, and where it enters each.
-bvec4 wideBoxesReachable(uint base, uint upper, vec3 origin, vec3 scale, Ray ray, vec3 inverse, float pad,
-                         out vec4 entry) {
-  vec4 t0x = (widePlane(base, 0u, upper, origin.x, scale.x) - pad - ray.origin.x) * inverse.x;
-  vec4 t0y = (widePlane(base, 1u, upper, origin.y, scale.y) - pad - ray.origin.y) * inverse.y;
-  vec4 t0z = (widePlane(base, 2u, upper, origin.z, scale.z) - pad - ray.origin.z) * inverse.z;
-  vec4 t1x = (widePlane(base, 3u, upper, origin.x, scale.x) + pad - ray.origin.x) * inverse.x;
-  vec4 t1y = (widePlane(base, 4u, upper, origin.y, scale.y) + pad - ray.origin.y) * inverse.y;
-  vec4 t1z = (widePlane(base, 5u, upper, origin.z, scale.z) + pad - ray.origin.z) * inverse.z;
+bvec4 wideBoxesReachable(uint base, uint upper, Ray ray, vec3 inverse, float pad, out vec4 entry) {
+  vec4 t0x = (uintBitsToFloat(wideNodes[base + 0u + upper]) - pad - ray.origin.x) * inverse.x;
+  vec4 t0y = (uintBitsToFloat(wideNodes[base + 2u + upper]) - pad - ray.origin.y) * inverse.y;
+  vec4 t0z = (uintBitsToFloat(wideNodes[base + 4u + upper]) - pad - ray.origin.z) * inverse.z;
+  vec4 t1x = (uintBitsToFloat(wideNodes[base + 6u + upper]) + pad - ray.origin.x) * inverse.x;
+  vec4 t1y = (uintBitsToFloat(wideNodes[base + 8u + upper]) + pad - ray.origin.y) * inverse.y;
+  vec4 t1z = (uintBitsToFloat(wideNodes[base + 10u + upper]) + pad - ray.origin.z) * inverse.z;
   entry = max(max(min(t0x, t1x), min(t0y, t1y)), min(t0z, t1z));
   vec4 leave = min(min(max(t0x, t1x), max(t0y, t1y)), max(t0z, t1z));
   uvec4 reach = uvec4(lessThanEqual(entry, leave)) * uvec4(greaterThanEqual(leave, vec4(-pad))) *
@@ -265,7 +255,8 @@ bvec4 wideBoxesReachable(uint base, uint upper, vec3 origin, vec3 scale, Ray ray
 
 // One child slot of the node being visited: the nearest child reached goes
 // on as `next`, the others onto the stack. Slots past the node's child count
-// decode to no box of the node's and are skipped by the count.
+// hold an empty box (lo +inf, hi -inf), which the min/max slab test would
+// not reject, so they are skipped by the count.
 void considerWideChild(bool reach, float entry, uint slot, uint base, uint childCount, inout uint next,
                        inout float nextEntry) {
   if (!reach || slot >= childCount) return;
@@ -284,25 +275,16 @@ void considerWideChild(bool reach, float entry, uint slot, uint base, uint child
 bool visitWideNode(uint node, Ray ray, vec3 inverse, float pad, out uint next) {
   if (COUNTERS) ++searchNodes;
   uint base = node * WIDE_NODE_VEC4S;
-  uvec4 header = wideNodes[base];
-  vec3 origin = uintBitsToFloat(header.xyz);
-  uvec3 exponents = (uvec3(header.w) >> uvec3(0u, 8u, 16u)) & 0xffu;
-  vec3 scale = uintBitsToFloat(exponents << 23);  // 2^(e - 127), exactly
-  uint childCount = header.w >> 24;
+  uint childCount = wideNodes[base + WIDE_CHILD_COUNT].x;
   vec4 entryLow, entryHigh;
-  bvec4 low = wideBoxesReachable(base, 0u, origin, scale, ray, inverse, pad, entryLow);
-  bvec4 high = wideBoxesReachable(base, 1u, origin, scale, ray, inverse, pad, entryHigh);
+  bvec4 low = wideBoxesReachable(base, 0u, ray, inverse, pad, entryLow);
+  bvec4 high = wideBoxesReachable(base, 1u, ray, inverse, pad, entryHigh);
   float nextEntry = 1.0 / 0.0;
   next = 0u;
-  // Written out slot by slot: the components by constant index stay in registers.
-  considerWideChild(low.x, entryLow.x, 0u, base, childCount, next, nextEntry);
-  considerWideChild(low.y, entryLow.y, 1u, base, childCount, next, nextEntry);
-  considerWideChild(low.z, entryLow.z, 2u, base, childCount, next, nextEntry);
-  considerWideChild(low.w, entryLow.w, 3u, base, childCount, next, nextEntry);
-  considerWideChild(high.x, entryHigh.x, 4u, base, childCount, next, nextEntry);
-  considerWideChild(high.y, entryHigh.y, 5u, base, childCount, next, nextEntry);
-  considerWideChild(high.z, entryHigh.z, 6u, base, childCount, next, nextEntry);
-  considerWideChild(high.w, entryHigh.w, 7u, base, childCount, next, nextEntry);
+  for (uint i = 0u; i < 4u; ++i) {
+    considerWideChild(low[i], entryLow[i], i, base, childCount, next, nextEntry);
+    considerWideChild(high[i], entryHigh[i], i + 4u, base, childCount, next, nextEntry);
+  }
   return nextEntry != 1.0 / 0.0;
 }
 

@@ -2,7 +2,6 @@
 // C++ mirrors of the data shaders/raytrace.comp reads, byte for byte. The
 // static_asserts pin every offset the shader declares, so a change on one
 // side that is not made on the other fails to compile.
-#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <glm/vec3.hpp>
@@ -74,28 +73,16 @@ std::vector<glm::vec4> leafSpheres(std::span<const Sphere> spheres, std::span<co
   return out;
 }
 
-// --gpu-bvh wide: rt::WideBvh's nodes compressed for the shader (after
-// Ylitie, Karras and Laine, HPG 2017): 96 bytes instead of 256. Each child
-// box plane is a byte q on a per-axis grid, decoded as origin + q * 2^e;
-// lower planes are rounded down and upper planes up, each checked with the
-// decoding's own float arithmetic, so a decoded box holds the exact one and
-// the traversal pad's argument stands (docs/render-model.md section 3).
-struct GpuWideNode {
-  glm::vec3 origin;                 // the node's lower corner: grid origin
-  std::uint32_t exponentsAndCount;  // biased exponent e + 127 of x, y, z (a byte each), child count
-  std::array<std::array<std::uint8_t, kWideBvhWidth>, 6> planes;  // WideBvhNode::Plane order, by child
-  std::array<std::uint32_t, kWideBvhWidth> child;                 // rt::WideChild words
-};
+// --gpu-bvh wide: rt::WideBvh's nodes go to the shader as built, 16 vec4s
+// each (shaders/nearest_hit.glsl): the six planes of 8 floats, the child
+// words, the child count. Its index array is plain ints.
 static_assert(kWideBvhWidth == 8, "the shader walks 8-wide nodes");
-static_assert(sizeof(GpuWideNode) == 96);
-static_assert(offsetof(GpuWideNode, planes) == 16 && offsetof(GpuWideNode, child) == 64);
+static_assert(sizeof(WideBvhNode) == 256);
+static_assert(offsetof(WideBvhNode, bounds) == 0);
+static_assert(offsetof(WideBvhNode, child) == 12 * 16);
+static_assert(offsetof(WideBvhNode, childCount) == 14 * 16);
 static_assert(sizeof(WideChild) == sizeof(std::uint32_t));
 static_assert(sizeof(decltype(WideBvh::index)::value_type) == sizeof(std::int32_t));
-
-// How the shader decodes a plane byte: one rounding (q * 2^e is exact).
-inline float decodePlane(float origin, std::uint8_t q, float scale) { return origin + static_cast<float>(q) * scale; }
-
-std::vector<GpuWideNode> toGpuWideNodes(const WideBvh& wide);
 
 // The push-constant block, declared from the member list the shader
 // declares its block from (RT_FRAME_CONSTANTS, shaders/gpu_interface.h):

@@ -159,8 +159,7 @@ struct BvhBuffers {
         order(uploadStorage(device, runner, std::span(bvh.order))),
         leafSpheres(uploadStorage(device, runner,
                                   std::span<const glm::vec4>(wide ? gpu::leafSpheres(spheres, std::span(wide->index))
-                                                                  : gpu::leafSpheres(spheres, std::span(bvh.order))))) {
-  }
+                                                                  : gpu::leafSpheres(spheres, std::span(bvh.order))))) {}
   Buffer nodes;
   Buffer order;
   Buffer leafSpheres;
@@ -169,7 +168,7 @@ struct BvhBuffers {
 // --gpu-bvh wide: the wide tree collapsed from the binary one, on the device.
 struct WideBvhBuffers {
   WideBvhBuffers(const Device& device, CommandRunner& runner, const WideBvh& wide)
-      : nodes(uploadStorage(device, runner, std::span<const GpuWideNode>(toGpuWideNodes(wide)))),
+      : nodes(uploadStorage(device, runner, std::span(wide.nodes))),
         index(uploadStorage(device, runner, std::span(wide.index))) {}
   Buffer nodes;
   Buffer index;
