@@ -159,7 +159,8 @@ struct BvhBuffers {
         order(uploadStorage(device, runner, std::span(bvh.order))),
         leafSpheres(uploadStorage(device, runner,
                                   std::span<const glm::vec4>(wide ? gpu::leafSpheres(spheres, std::span(wide->index))
-                                                                  : gpu::leafSpheres(spheres, std::span(bvh.order))))) {}
+                                                                  : gpu::leafSpheres(spheres, std::span(bvh.order))))) {
+  }
   Buffer nodes;
   Buffer order;
   Buffer leafSpheres;

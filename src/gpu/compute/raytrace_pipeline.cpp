@@ -13,7 +13,7 @@ namespace {
 constexpr std::array<std::uint32_t, 12> kStorageBufferSlots{
     RT_BINDING_SPHERES,    RT_BINDING_BVH_NODES, RT_BINDING_BVH_ORDER,  RT_BINDING_WIDE_NODES,
     RT_BINDING_WIDE_INDEX, RT_BINDING_COUNTERS,  RT_BINDING_QUEUE_EVEN, RT_BINDING_QUEUE_ODD,
-    RT_BINDING_PATH_STATE, RT_BINDING_SEGMENTS,  RT_BINDING_CONTROL, RT_BINDING_LEAF_SPHERES};
+    RT_BINDING_PATH_STATE, RT_BINDING_SEGMENTS,  RT_BINDING_CONTROL,    RT_BINDING_LEAF_SPHERES};
 constexpr std::uint32_t kStorageBufferBindings = kStorageBufferSlots.size();
 static_assert(sizeof(SceneBuffers) == kStorageBufferBindings * sizeof(vk::Buffer));
 
@@ -129,8 +129,9 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
     return vk::DescriptorBufferInfo{.buffer = buffer, .offset = 0, .range = VK_WHOLE_SIZE};
   };
   const std::array<vk::Buffer, kStorageBufferBindings> handles{
-      buffers.spheres,   buffers.bvhNodes, buffers.bvhOrder,   buffers.wideNodes, buffers.wideIndex, buffers.counters,
-      buffers.queueEven, buffers.queueOdd, buffers.pathStates, buffers.segments,  buffers.control, buffers.leafSpheres};
+      buffers.spheres,    buffers.bvhNodes, buffers.bvhOrder,  buffers.wideNodes,
+      buffers.wideIndex,  buffers.counters, buffers.queueEven, buffers.queueOdd,
+      buffers.pathStates, buffers.segments, buffers.control,   buffers.leafSpheres};
   std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{};
   for (std::size_t i = 0; i < kStorageBufferBindings; ++i) bufferInfos[i] = whole(handles[i]);
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};
