@@ -36,7 +36,7 @@ TYPES = [("Ray", "3"), ("RaycastHit", "3"), ("PathSegment", "5")]
 
 SCALAR = [*sorted((REPO / "src/render/scalar").glob("*.h")), REPO / "src/render/accel/bvh.h"]
 SIMD = sorted((REPO / "src/render/simd").glob("*.h")) + sorted((REPO / "src/render/simd").glob("*.cc"))
-GLSL = [REPO / "shaders/raytrace.comp"]
+GLSL = sorted((REPO / "shaders").glob("*.comp")) + sorted((REPO / "shaders").glob("*.glsl"))
 
 
 def simd_function(word: str) -> str:

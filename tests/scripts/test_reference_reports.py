@@ -106,7 +106,7 @@ def test_a_report_from_an_archive_is_the_report_from_its_directory(tmp_path):
 
 
 # docs/compare.md's cross-machine example: the two committed runs it compares.
-CROSS_MACHINE = ("data/reference-runs/two-core-gpu-machine.tar.xz", "data/reference-runs/gpu-machine.tar.xz")
+CROSS_MACHINE = ("data/reference-runs/two-core-gpu-machine.tar.xz", "data/reference-runs/gpu-machine-254c4fa.tar.xz")
 
 
 def test_the_cross_machine_example_in_docs_is_compares_output(repo_root, tmp_path):
