@@ -204,3 +204,9 @@ def write_run_dir(
         },
     )
     return out
+
+
+def table_rows(markdown: str) -> list[list[str]]:
+    """The body rows of the one Markdown table in `markdown`, as cells."""
+    lines = [line for line in markdown.splitlines() if line.startswith("|")]
+    return [[cell.strip() for cell in line.strip("|").split("|")] for line in lines[2:]]

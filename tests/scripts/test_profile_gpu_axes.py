@@ -8,14 +8,14 @@ import re
 from collections import Counter
 from pathlib import Path
 
+import profile_test_support as support
 import pytest
+from profile_test_support import EVERY_RENDERER, argv, flag_value
 
 from rtbench import configurations, names, profiles
 from rtbench.profiles import ProfileError
 
-SCENE = [Path("scenes/random100.json")]
 PATH = Path("gpu-axes-test.toml")
-EVERY_RENDERER = {renderer: {} for renderer in names.RENDERERS}
 # Hand-written: the schema's variants and the flags the raytracer takes for them.
 BVHS, SCHEDULES, PATHS = ["binary", "wide"], ["pixel", "persistent"], ["megakernel", "wavefront"]
 FLAGS = {"gpu_bvh": "--gpu-bvh", "gpu_schedule": "--gpu-schedule", "gpu_path": "--gpu-path"}
@@ -23,21 +23,11 @@ EVERY_VARIANT = {"gpu_bvhs": BVHS, "gpu_schedules": SCHEDULES, "gpu_paths": PATH
 
 
 def profile(**keys):
-    raw = {"description": "test", "scenes": ["random100"], "stages": ["optimized"], **keys}
-    return profiles.parse_profile(raw, PATH)
+    return support.profile(PATH, **keys)
 
 
 def expand(**keys):
-    return configurations.expand(profile(**keys), SCENE, 2)
-
-
-def argv(config):
-    return config.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
-
-
-def flag_value(config, flag):
-    line = argv(config)
-    return line[line.index(flag) + 1] if flag in line else None
+    return support.expand(PATH, **keys)
 
 
 def variant(config):

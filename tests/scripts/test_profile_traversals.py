@@ -5,32 +5,22 @@ names they give them, and the errors for values that cannot be used."""
 import re
 from pathlib import Path
 
+import profile_test_support as support
 import pytest
+from profile_test_support import EVERY_RENDERER, argv, flag_value
 
 from rtbench import configurations, names, profiles
 from rtbench.profiles import ProfileError
 
-SCENE = [Path("scenes/random100.json")]
 PATH = Path("traversal-test.toml")
-EVERY_RENDERER = {renderer: {} for renderer in names.RENDERERS}
 
 
 def profile(**keys):
-    raw = {"description": "test", "scenes": ["random100"], "stages": ["optimized"], **keys}
-    return profiles.parse_profile(raw, PATH)
+    return support.profile(PATH, **keys)
 
 
 def expand(**keys):
-    return configurations.expand(profile(**keys), SCENE, 2)
-
-
-def argv(config):
-    return config.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
-
-
-def flag_value(config, flag):
-    line = argv(config)
-    return line[line.index(flag) + 1] if flag in line else None
+    return support.expand(PATH, **keys)
 
 
 def test_traversals_multiply_only_the_simd_kernel_on_the_bvh():

@@ -10,7 +10,7 @@ import csv
 import statistics
 
 import pytest
-from synthetic_runs import SyntheticConfig, write_run_dir
+from synthetic_runs import SyntheticConfig, table_rows, write_run_dir
 
 from rtbench import report_writer
 
@@ -66,11 +66,6 @@ def report(tmp_path_factory):
     out = base / "report"
     assert report_writer.main([str(run), "-o", str(out), "-q"]) == 0
     return out
-
-
-def table_rows(markdown: str) -> list[list[str]]:
-    lines = [line for line in markdown.splitlines() if line.startswith("|")]
-    return [[cell.strip() for cell in line.strip("|").split("|")] for line in lines[2:]]
 
 
 def median_gpu_ms(config) -> float:

@@ -9,7 +9,7 @@ import statistics
 from pathlib import Path
 
 import pytest
-from synthetic_runs import SyntheticConfig, write_run_dir
+from synthetic_runs import SyntheticConfig, table_rows, write_run_dir
 
 from rtbench import names, report_writer
 
@@ -119,12 +119,6 @@ def report(tmp_path_factory):
     out = base / "report"
     assert report_writer.main([str(run), "-o", str(out), "-q"]) == 0
     return out
-
-
-def table_rows(markdown: str) -> list[list[str]]:
-    """The body rows of the one Markdown table in `markdown`, as cells."""
-    lines = [line for line in markdown.splitlines() if line.startswith("|")]
-    return [[cell.strip() for cell in line.strip("|").split("|")] for line in lines[2:]]
 
 
 def test_the_occupancy_table_has_one_row_per_counted_configuration_with_the_counts_numbers(report):

@@ -13,6 +13,7 @@
 #include "gpu/compute/gpu_renderer.h"
 #include "gpu/gpu_test_support.h"
 #include "render/accel/accel_scenes.h"
+#include "render/render_test_support.h"
 #include "test_support.h"
 
 namespace rt::test {
@@ -65,21 +66,12 @@ std::string describeOptions(const RenderOptions& o) {
   return std::string(rt::nameOf(o.algorithm)) + " exits " + o.earlyExits.toString();
 }
 
-Image renderWith(gpu::GPURenderer& gpu, const Scene& scene, Extent extent, const RenderOptions& options) {
-  gpu.prepare(scene, extent, options);
-  gpu.render(cameraAtFrame(scene.camera, kFrame));
-  gpu.present();
-  Image out(extent);
-  gpu.readPresented(out);
-  return out;
-}
-
 void expectEveryVariantMatchesBruteForce(const Scene& scene, Extent extent, const std::string& label) {
   gpu::GPURenderer gpu(ValidatedGpuEnvironment::context(), PresentMode::upload);
   for (const RenderOptions& base : algorithmsAndExits()) {
-    const Image reference = renderWith(gpu, scene, extent, base);
+    const Image reference = renderFrame(gpu, scene, extent, base, kFrame);
     for (const GpuVariant& variant : allVariants()) {
-      const Image image = renderWith(gpu, scene, extent, withVariant(base, variant));
+      const Image image = renderFrame(gpu, scene, extent, withVariant(base, variant), kFrame);
       EXPECT_TRUE(std::ranges::equal(reference.pixels(), image.pixels()))
           << label << " " << extent.width << "x" << extent.height << " " << describeOptions(base) << " "
           << nameOf(variant);
@@ -105,7 +97,7 @@ TEST_F(GpuVariants, ScenesBuiltToBreakATraversalAreByteIdenticalToBruteForce) {
 LaneCounters countWith(gpu::GPURenderer& gpu, const Scene& scene, Extent extent, const RenderOptions& options) {
   RenderOptions counting = options;
   counting.counters = true;
-  renderWith(gpu, scene, extent, counting);
+  renderFrame(gpu, scene, extent, counting, kFrame);
   const std::optional<LaneCounters> counters = gpu.lastCounters();
   if (!counters) throw std::logic_error("no counters with --counters");
   return *counters;
@@ -113,7 +105,7 @@ LaneCounters countWith(gpu::GPURenderer& gpu, const Scene& scene, Extent extent,
 
 TEST_F(GpuVariants, CountersAreOffByDefault) {
   gpu::GPURenderer gpu(context(), PresentMode::upload);
-  renderWith(gpu, loadNamedScene("default"), {16, 16}, optionsForStage(Stage::optimized));
+  renderFrame(gpu, loadNamedScene("default"), {16, 16}, optionsForStage(Stage::optimized), kFrame);
   EXPECT_FALSE(gpu.lastCounters().has_value());
 }
 
@@ -190,13 +182,13 @@ TEST_F(GpuVariants, ReportsItsAxesAfterPrepare) {
   RenderOptions options = optionsForStage(Stage::optimized);
   options.gpuSchedule = GpuSchedule::persistent;
   options.gpuPath = GpuPath::wavefront;
-  renderWith(gpu, loadNamedScene("default"), {16, 16}, options);
+  renderFrame(gpu, loadNamedScene("default"), {16, 16}, options, kFrame);
   EXPECT_FALSE(gpu.info().gpuBvh.has_value()) << "no BVH with accel none";
   EXPECT_EQ(gpu.info().gpuSchedule, GpuSchedule::persistent);
   EXPECT_EQ(gpu.info().gpuPath, GpuPath::wavefront);
   options.accel = Accel::bvh;
   options.gpuBvh = GpuBvh::wide;
-  renderWith(gpu, loadNamedScene("default"), {16, 16}, options);
+  renderFrame(gpu, loadNamedScene("default"), {16, 16}, options, kFrame);
   EXPECT_EQ(gpu.info().gpuBvh, GpuBvh::wide);
 }
 
