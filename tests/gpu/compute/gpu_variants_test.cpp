@@ -177,6 +177,20 @@ TEST_F(GpuVariants, WavefrontsFillMoreShadingLanesThanTheMegakernel) {
   EXPECT_EQ(wavefront.shadeLanesActive, megakernel.shadeLanesActive);
 }
 
+// The wavefront's queues hold 32 bytes per pixel: past what the device can
+// bind (maxStorageBufferRange, at most 4 GiB) the size is refused, by name.
+TEST_F(GpuVariants, RefusesWavefrontBuffersPastTheDeviceLimit) {
+  gpu::GPURenderer gpu(context(), PresentMode::none);
+  RenderOptions options = optionsForStage(Stage::original);
+  options.gpuPath = GpuPath::wavefront;
+  try {
+    gpu.prepare(loadNamedScene("default"), {16384, 16384}, options);
+    FAIL() << "a 16384x16384 wavefront frame was prepared";
+  } catch (const RendererUnavailable& e) {
+    EXPECT_NE(std::string(e.what()).find("maxStorageBufferRange"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(GpuVariants, ReportsItsAxesAfterPrepare) {
   gpu::GPURenderer gpu(context(), PresentMode::upload);
   RenderOptions options = optionsForStage(Stage::optimized);
