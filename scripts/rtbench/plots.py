@@ -231,10 +231,12 @@ def frame_series(frames: pd.DataFrame, stem: Path) -> list[Path]:
             warm = group[names.WARMUP].to_numpy() == 1
             y = group[names.RENDER_MS].to_numpy()
             ax.plot(x, y, color=color, linewidth=0.8, label=_config_label(group, with_size))
-            ax.scatter(x[~warm], y[~warm], color=color, s=8)
-            ax.scatter(x[warm], y[warm], facecolors="none", edgecolors=color, s=14)
+            # The markers, one per frame, as pixels in the SVG too: as vector
+            # paths a run of a few hundred configurations drew a 2 MB file.
+            ax.scatter(x[~warm], y[~warm], color=color, s=8, rasterized=True)
+            ax.scatter(x[warm], y[warm], facecolors="none", edgecolors=color, s=14, rasterized=True)
             flagged = outliers.loc[group.index].to_numpy()
-            ax.scatter(x[flagged], y[flagged], color="red", marker="x", s=30, zorder=3)
+            ax.scatter(x[flagged], y[flagged], color="red", marker="x", s=30, zorder=3, rasterized=True)
             for boundary in np.flatnonzero(np.diff(group[names.REPETITION].to_numpy())) + 0.5:
                 ax.axvline(boundary, color="grey", linestyle=":", linewidth=0.8)
         _log_y(ax, part[names.RENDER_MS])
