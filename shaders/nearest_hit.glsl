@@ -25,10 +25,7 @@ void beginCounting() {
   for (int d = 0; d < MAX_DEPTH; ++d) tallyRays[d] = 0u;
 }
 
-void beginSearch() {
-  searchNodes = 0u;
-  searchSpheres = 0u;
-}
+
 
 // One search at bounce `depth` has ended; `hit`: the ray found a sphere and is shaded.
 void endSearch(int depth, bool hit) {
@@ -118,6 +115,14 @@ vec3 inverseDirection(vec3 d) {
 float searchBest;
 int searchBestIndex;
 
+// A search starts with no hit and nothing counted.
+void beginSearch() {
+  searchBest = 1.0 / 0.0;  // +infinity
+  searchBestIndex = -1;
+  searchNodes = 0u;
+  searchSpheres = 0u;
+}
+
 // Whether the ray may meet a sphere inside the box lo..hi, widened by
 // `pad`, nearer than the best hit (+ pad): the CPU kernels' slab test; and
 // the distance at which it enters the box.
@@ -168,8 +173,6 @@ bool leafTestedOrReachable(bool reach, uint child, uint count, Ray ray) {
 RaycastHit nearestHitInBvh(Ray ray) {
   vec3 inverse = inverseDirection(ray.direction);
   float pad = traversalPad(ray.origin);
-  searchBest = 1.0 / 0.0;  // +infinity
-  searchBestIndex = -1;
   uint stackNode[RT_BVH_MAX_DEPTH + 2];
   float stackEntry[RT_BVH_MAX_DEPTH + 2];
   int top = 0;
@@ -308,8 +311,6 @@ bool popWideChild(float pad, out uint child) {
 RaycastHit nearestHitInWideBvh(Ray ray) {
   vec3 inverse = inverseDirection(ray.direction);
   float pad = traversalPad(ray.origin);
-  searchBest = 1.0 / 0.0;  // +infinity
-  searchBestIndex = -1;
   wideStackTop = 0;
   uint current = 0u;  // the root, an inner node
   bool haveCurrent = true;
