@@ -65,21 +65,27 @@ def run_process(argv: list[str], cwd: Path, timeout: float) -> tuple[int, str, s
     stdout, stderr). Whatever ends the wait (the timeout, Ctrl-C, SIGTERM)
     kills the whole group with SIGKILL and reaps it before propagating, so
     nothing it started keeps running. Its own group also keeps a terminal's
-    Ctrl-C from reaching it before the runner has decided what to do."""
-    proc = subprocess.Popen(
-        argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
-    )
-    try:
-        out, err = proc.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired as e:
-        _kill_group(proc)
-        _, err = proc.communicate()
-        e.stderr = err
-        raise
-    except BaseException:
-        _kill_group(proc)
-        proc.communicate()
-        raise
+    Ctrl-C from reaching it before the runner has decided what to do.
+
+    A signal that comes while Popen is still starting the child (it has
+    exec'd, but Popen has not returned it) is held until the child is ours
+    to kill: raised there, it would leave the child running unowned."""
+    with _interrupts.held() as hold:
+        proc = subprocess.Popen(
+            argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
+        )
+        try:
+            hold.release()
+            out, err = proc.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired as e:
+            _kill_group(proc)
+            _, err = proc.communicate()
+            e.stderr = err
+            raise
+        except BaseException:
+            _kill_group(proc)
+            proc.communicate()
+            raise
     return proc.returncode, out, err
 
 
@@ -151,19 +157,56 @@ def execute(manifest: Manifest, run_dir: Path, cwd: Path, timeout: float, observ
     return True
 
 
+class _InterruptState:
+    """What interruptible()'s handler shares with run_process: whether the
+    first signal was raised already, and whether a signal must wait (held)
+    until the running child can be killed."""
+
+    def __init__(self):
+        self.raised = False
+        self.holding = False
+        self.pending: int | None = None
+
+    def on_signal(self, signum: int) -> None:
+        if self.raised:
+            return
+        if self.holding:
+            self.pending = signum
+            return
+        self.raised = True
+        raise Interrupted(signum)
+
+    @contextmanager
+    def held(self):
+        """Signals that come inside the block wait for release(), which
+        raises the first of them; leaving the block releases too (a signal
+        held while Popen failed is raised, not lost)."""
+        self.holding, self.pending = True, None
+        try:
+            yield self
+        finally:
+            self.release()
+
+    def release(self) -> None:
+        self.holding = False
+        if self.pending is not None:
+            signum, self.pending = self.pending, None
+            self.on_signal(signum)
+
+
+_interrupts = _InterruptState()
+
+
 @contextmanager
 def interruptible():
     """SIGINT (Ctrl-C) and SIGTERM raise Interrupted inside the block, the
     first one only: a second signal while the runner kills the running
     configuration and writes the manifest is ignored, so that cleanup
     finishes."""
-    raised = False
+    _interrupts.raised = False
 
     def handler(signum, frame):
-        nonlocal raised
-        if not raised:
-            raised = True
-            raise Interrupted(signum)
+        _interrupts.on_signal(signum)
 
     previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
     try:

@@ -258,3 +258,32 @@ def test_two_runners_never_share_a_run_directory(repo_root, raytracer, tmp_path)
             proc.kill()
     assert proc.returncode == 143
     assert bench(repo_root, "--resume", run_dir, "--no-report").returncode == 0
+
+
+def test_a_signal_while_the_child_is_starting_still_kills_and_reaps_it(monkeypatch):
+    """The window the end-to-end tests above only hit by chance: the child has
+    exec'd but Popen has not returned it yet when the signal comes. The
+    signal is raised from inside Popen here, as the runner's handler would
+    see it; the child must still be killed and reaped, not left running."""
+    from rtbench import runner
+
+    started = []
+    real_popen = subprocess.Popen
+
+    def popen_then_signal(*args, **kwargs):
+        proc = real_popen(*args, **kwargs)
+        started.append(proc.pid)
+        signal.raise_signal(signal.SIGINT)
+        return proc
+
+    monkeypatch.setattr(runner.subprocess, "Popen", popen_then_signal)
+    try:
+        with pytest.raises(runner.Interrupted), runner.interruptible():
+            runner.run_process(["sleep", "60"], Path.cwd(), timeout=60)
+        (pid,) = started
+        assert not Path(f"/proc/{pid}").exists(), "the child was left running"
+    finally:
+        for pid in started:
+            if Path(f"/proc/{pid}").exists():
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
