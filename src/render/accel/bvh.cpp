@@ -1,10 +1,15 @@
 #include "render/accel/bvh.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <glm/common.hpp>
+#include <cstring>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include "core/profiler.h"
@@ -14,29 +19,126 @@ namespace {
 
 constexpr int kBins = 16;
 constexpr float kInf = std::numeric_limits<float>::infinity();
+// Ranges at least this long are binned in chunks on several threads.
+constexpr std::uint32_t kParallelBinning = 1u << 16;
+constexpr std::uint32_t kBinningChunk = 1u << 14;
+// Ranges shorter than this are built by one task, into a block of their own.
+constexpr std::uint32_t kSerialSubtree = 1u << 12;
+
+// Four floats in one register (a GCC and Clang vector extension, on x86-64
+// and AArch64 alike): x, y, z and a spare lane. Lane-wise + - * / round as
+// the scalar operations do.
+using Float4 = float __attribute__((vector_size(16)));
+using Int4 = std::int32_t __attribute__((vector_size(16)));
+
+inline Float4 splat(float v) { return Float4{v, v, v, v}; }
+// Lane-wise min and max that keep the first argument on a tie, as glm::min
+// and glm::max do. A sphere's box (finite, radius > 0) never holds -0, so
+// the bounds of a set of boxes are the same bits in whatever order the set
+// is grown, in one pass or in chunks. Centres may hold -0, and the centroid
+// bounds then a zero of either sign; a centre's bin cannot tell which (c -
+// lo and the extent keep their values).
+inline Float4 min4(Float4 a, Float4 b) { return b < a ? b : a; }
+inline Float4 max4(Float4 a, Float4 b) { return a < b ? b : a; }
 
 struct Box {
-  glm::vec3 lo{kInf};
-  glm::vec3 hi{-kInf};
+  Float4 lo = splat(kInf);
+  Float4 hi = splat(-kInf);
 
   void grow(const Box& b) {
-    lo = glm::min(lo, b.lo);
-    hi = glm::max(hi, b.hi);
-  }
-  void grow(const glm::vec3& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
+    lo = min4(lo, b.lo);
+    hi = max4(hi, b.hi);
   }
   [[nodiscard]] float halfArea() const {
-    if (lo.x > hi.x) return 0.0f;
-    const glm::vec3 e = hi - lo;
-    return e.x * e.y + e.y * e.z + e.z * e.x;
+    if (lo[0] > hi[0]) return 0.0f;
+    const Float4 e = hi - lo;
+    return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+  }
+  [[nodiscard]] glm::vec3 low() const { return {lo[0], lo[1], lo[2]}; }
+  [[nodiscard]] glm::vec3 high() const { return {hi[0], hi[1], hi[2]}; }
+};
+
+// One sphere as the build reads it: centre and radius, scene index, and its
+// bin on each axis in the last binning, side by side and moved as a whole
+// by the partitions (no indirection through Bvh::order).
+struct Prim {
+  std::array<float, 4> centreRadius;  // x, y, z, r
+  std::uint32_t index;
+  std::array<std::uint8_t, 4> bin;  // x, y, z, unused
+
+  [[nodiscard]] Float4 load() const {
+    Float4 v;
+    std::memcpy(&v, centreRadius.data(), sizeof v);
+    return v;
+  }
+};
+static_assert(sizeof(Prim) == 24);
+
+// A node's spheres: their bounds and their centres' bounds.
+struct Range {
+  std::uint32_t begin = 0, end = 0;
+  Box bounds, centroids;
+  [[nodiscard]] std::uint32_t count() const { return end - begin; }
+};
+
+// The bins of a centre on the three axes of a node's centroid bounds, as
+// static_cast<int>(kBins * (c - lo) / extent) clamped to [0, kBins - 1]:
+// the division (not a reciprocal multiply) decides the bins. An axis that
+// cannot be split (no extent) puts every centre in bin 0; the spare lane
+// (the radius) lands in bin 0 too.
+struct Binner {
+  Float4 lo, extent;
+  std::array<bool, 3> splittable{};
+
+  explicit Binner(const Box& centroids) : lo(centroids.lo), extent(centroids.hi - centroids.lo) {
+    for (int a = 0; a < 3; ++a) {
+      splittable[a] = centroids.hi[a] > centroids.lo[a];
+      if (!splittable[a]) extent[a] = 1.0f;
+    }
+    lo[3] = 0.0f;
+    extent[3] = kInf;
+  }
+  [[nodiscard]] Int4 operator()(Float4 centre) const {
+    const Int4 b = __builtin_convertvector(splat(static_cast<float>(kBins)) * (centre - lo) / extent, Int4);
+    const Int4 zero{0, 0, 0, 0}, last{kBins - 1, kBins - 1, kBins - 1, kBins - 1};
+    const Int4 low = b < zero ? zero : b;
+    return low > last ? last : low;
   }
 };
 
 struct Bin {
   Box bounds;
   std::uint32_t count = 0;
+};
+using AxisBins = std::array<Bin, kBins>;
+
+// The three axes' bins of a range, filled in one pass over it, which also
+// records each sphere's bins for the partition.
+struct Binning {
+  std::array<AxisBins, 3> axes{};
+
+  void add(std::span<Prim> prims, const Binner& binner) {
+    for (Prim& p : prims) {
+      const Float4 cr = p.load();
+      const Float4 r = splat(cr[3]);
+      const Box box{cr - r, cr + r};
+      const Int4 b = binner(cr);
+      for (int a = 0; a < 3; ++a) {
+        p.bin[a] = static_cast<std::uint8_t>(b[a]);
+        Bin& bin = axes[a][static_cast<std::size_t>(b[a])];
+        bin.bounds.grow(box);
+        ++bin.count;
+      }
+    }
+  }
+  void merge(const Binning& other) {
+    for (int a = 0; a < 3; ++a) {
+      for (std::size_t b = 0; b < kBins; ++b) {
+        axes[a][b].bounds.grow(other.axes[a][b].bounds);
+        axes[a][b].count += other.axes[a][b].count;
+      }
+    }
+  }
 };
 
 struct Split {
@@ -45,125 +147,255 @@ struct Split {
   float cost = kInf;
 };
 
-// Builds top-down; the sphere boxes and centres are computed once.
+// SAH cost (in units of sphere tests, relative to the parent's area) of
+// each plane between bins, from prefix and suffix sweeps; the first
+// cheapest plane wins, axes in order x, y, z. Only the planes just above a
+// non-empty bin are priced: a plane above an empty bin splits the spheres
+// as the plane below it does, at the same cost, so it never wins.
+void considerSplits(const AxisBins& bins, int axis, Split& best) {
+  std::array<std::size_t, kBins> used{};
+  std::size_t n = 0;
+  for (std::size_t b = 0; b < kBins; ++b) {
+    if (bins[b].count != 0) used[n++] = b;
+  }
+  if (n < 2) return;
+  // rightCost[k]: the spheres in used bins k.. n-1 (those above plane used[k - 1]).
+  std::array<float, kBins> rightCost{};
+  Box right;
+  std::uint32_t rightCount = 0;
+  for (std::size_t k = n - 1; k > 0; --k) {
+    right.grow(bins[used[k]].bounds);
+    rightCount += bins[used[k]].count;
+    rightCost[k] = right.halfArea() * static_cast<float>(rightCount);
+  }
+  Box left, all = right;
+  all.grow(bins[used[0]].bounds);
+  std::uint32_t leftCount = 0;
+  const float parentArea = std::max(all.halfArea(), std::numeric_limits<float>::min());
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    left.grow(bins[used[k]].bounds);
+    leftCount += bins[used[k]].count;
+    if (rightCost[k + 1] == 0.0f) continue;
+    const float cost = 1.0f + (left.halfArea() * static_cast<float>(leftCount) + rightCost[k + 1]) / parentArea;
+    if (cost < best.cost) best = {axis, static_cast<int>(used[k]), cost};
+  }
+}
+
+// A built subtree waiting for its place in Bvh::nodes. The nodes are laid
+// out depth first with a node's two children side by side, allocated when
+// the node is split: below a node come its children's pair, then the left
+// child's descendants, then the right child's. A subtree built by one task
+// holds that layout in `block` (its root at 0, indices relative to it); a
+// subtree split in parallel holds its two children as pieces.
+struct Piece {
+  BvhNode root{};
+  std::vector<BvhNode> block;
+  std::unique_ptr<Piece> left, right;
+  std::size_t descendants = 0;  // nodes below the root
+  int depth = 0;                // deepest level in the subtree, counted from the tree's root
+};
+
 class Builder {
  public:
-  explicit Builder(std::span<const Sphere> spheres) {
-    boxes_.reserve(spheres.size());
-    centres_.reserve(spheres.size());
-    for (const Sphere& s : spheres) {
-      boxes_.push_back({s.position - glm::vec3(s.radius), s.position + glm::vec3(s.radius)});
-      centres_.push_back(s.position);
-    }
-    for (const Box& b : boxes_) {
-      const glm::vec3 m = glm::max(glm::abs(b.lo), glm::abs(b.hi));
-      bvh_.maxCoordinate = std::max({bvh_.maxCoordinate, m.x, m.y, m.z});
-    }
-    for (const Sphere& s : spheres) bvh_.maxRadius = std::max(bvh_.maxRadius, s.radius);
-    bvh_.order.resize(spheres.size());
-    for (std::uint32_t i = 0; i < bvh_.order.size(); ++i) bvh_.order[i] = i;
-    bvh_.nodes.reserve(2 * spheres.size());
+  explicit Builder(std::span<const Sphere> spheres) : prims_(spheres.size()) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, spheres.size(), kBinningChunk), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        const Sphere& s = spheres[i];
+        prims_[i] = {{s.position.x, s.position.y, s.position.z, s.radius}, static_cast<std::uint32_t>(i), {}};
+      }
+    });
   }
 
   Bvh build() && {
-    bvh_.nodes.emplace_back();
-    buildNode(0, 0, static_cast<std::uint32_t>(bvh_.order.size()), 0);
-    return std::move(bvh_);
+    Bvh bvh;
+    Range all = measure(bvh);
+    const std::unique_ptr<Piece> top = buildPiece(all, 0);
+    bvh.depth = top->depth;
+    // The spheres go before the nodes come, and each block as soon as it
+    // is placed, so that the peak holds little more than the finished tree.
+    bvh.order.resize(prims_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prims_.size(), kBinningChunk), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) bvh.order[i] = prims_[i].index;
+    });
+    prims_ = std::vector<Prim>();  // (= {} would keep the capacity)
+    bvh.nodes.resize(1 + top->descendants);
+    place(*top, 0, 1, bvh.nodes);
+    return bvh;
   }
 
  private:
-  void buildNode(std::size_t node, std::uint32_t begin, std::uint32_t end, int depth) {
-    Box bounds, centroids;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      bounds.grow(boxes_[bvh_.order[i]]);
-      centroids.grow(centres_[bvh_.order[i]]);
-    }
-    bvh_.nodes[node].lo = bounds.lo;
-    bvh_.nodes[node].hi = bounds.hi;
-    bvh_.depth = std::max(bvh_.depth, depth);
-    const std::uint32_t count = end - begin;
-    const Split split = count <= kBvhMaxLeafSize || depth >= kBvhMaxDepth ? Split{} : bestSplit(begin, end, centroids);
-    const std::uint32_t middle = split.axis < 0 ? end : partition(begin, end, split, centroids);
-    if (middle == begin || middle == end) {
-      makeLeaf(node, begin, count);
-      return;
-    }
-    const auto left = static_cast<std::uint32_t>(bvh_.nodes.size());
-    bvh_.nodes.emplace_back();
-    bvh_.nodes.emplace_back();
-    bvh_.nodes[node].first = left;
-    bvh_.nodes[node].meta = static_cast<std::uint32_t>(split.axis) << 30;
-    buildNode(left, begin, middle, depth + 1);
-    buildNode(left + 1, middle, end, depth + 1);
-  }
-
-  void makeLeaf(std::size_t node, std::uint32_t begin, std::uint32_t count) {
-    if (count > BvhNode::kCountMask) throw std::length_error("BVH leaf too large");
-    bvh_.nodes[node].first = begin;
-    bvh_.nodes[node].meta = count;
-  }
-
-  [[nodiscard]] int binOf(const glm::vec3& c, int axis, const Box& centroids) const {
-    const float extent = centroids.hi[axis] - centroids.lo[axis];
-    const auto b = static_cast<int>(static_cast<float>(kBins) * (c[axis] - centroids.lo[axis]) / extent);
-    return std::clamp(b, 0, kBins - 1);
-  }
-
-  // The binned SAH split of the range, or none (axis -1) when a leaf is cheaper.
-  [[nodiscard]] Split bestSplit(std::uint32_t begin, std::uint32_t end, const Box& centroids) const {
-    Split best;
-    for (int axis = 0; axis < 3; ++axis) {
-      if (!(centroids.hi[axis] > centroids.lo[axis])) continue;
-      std::array<Bin, kBins> bins{};
-      for (std::uint32_t i = begin; i < end; ++i) {
-        Bin& bin = bins[static_cast<std::size_t>(binOf(centres_[bvh_.order[i]], axis, centroids))];
-        bin.bounds.grow(boxes_[bvh_.order[i]]);
-        ++bin.count;
+  // The root's range, and the largest radius and |coordinate| (traversalPad()).
+  Range measure(Bvh& bvh) {
+    struct Extent {
+      Box bounds, centroids;
+      float maxRadius = 0.0f;
+    };
+    const std::vector<Extent> chunks = inChunks(0, count(), Extent{}, [&](std::span<Prim> prims, Extent& e) {
+      for (const Prim& p : prims) {
+        const Float4 cr = p.load();
+        const Float4 r = splat(cr[3]);
+        e.bounds.grow({cr - r, cr + r});
+        e.centroids.grow({cr, cr});
+        e.maxRadius = std::max(e.maxRadius, cr[3]);
       }
-      considerSplits(bins, axis, best);
+    });
+    Range all{0, count(), {}, {}};
+    for (const Extent& e : chunks) {
+      all.bounds.grow(e.bounds);
+      all.centroids.grow(e.centroids);
+      bvh.maxRadius = std::max(bvh.maxRadius, e.maxRadius);
+    }
+    for (int a = 0; a < 3; ++a) {
+      bvh.maxCoordinate = std::max({bvh.maxCoordinate, std::abs(all.bounds.lo[a]), std::abs(all.bounds.hi[a])});
+    }
+    return all;
+  }
+
+  [[nodiscard]] std::uint32_t count() const { return static_cast<std::uint32_t>(prims_.size()); }
+
+  // `work` run over consecutive chunks of [begin, end) on the pool, one
+  // result per chunk (starting as `init`) in range order.
+  template <typename Result, typename Work>
+  std::vector<Result> inChunks(std::uint32_t begin, std::uint32_t end, const Result& init, Work work) {
+    const std::uint32_t chunks = (end - begin + kBinningChunk - 1) / kBinningChunk;
+    std::vector<Result> results(chunks, init);
+    tbb::parallel_for(std::uint32_t{0}, chunks, [&](std::uint32_t k) {
+      const std::uint32_t first = begin + k * kBinningChunk;
+      work(std::span(prims_).subspan(first, std::min(kBinningChunk, end - first)), results[k]);
+    });
+    return results;
+  }
+
+  // The range's bins, in chunks on the pool when it is long: min, max and
+  // counts, merged in range order, give the same bins as one pass.
+  [[nodiscard]] Binning bin(const Range& range, const Binner& binner) {
+    Binning binning;
+    if (range.count() < kParallelBinning) {
+      binning.add(std::span(prims_).subspan(range.begin, range.count()), binner);
+      return binning;
+    }
+    const auto parts =
+        inChunks(range.begin, range.end, binning, [&](std::span<Prim> prims, Binning& b) { b.add(prims, binner); });
+    for (const Binning& part : parts) binning.merge(part);
+    return binning;
+  }
+
+  // Splits `range` in place into its two children, or returns false when it
+  // stays a leaf (few spheres, the depth limit, or a leaf is cheaper).
+  bool split(const Range& range, int depth, int& axis, Range& left, Range& right) {
+    if (range.count() <= kBvhMaxLeafSize || depth >= kBvhMaxDepth) return false;
+    const Binner binner(range.centroids);
+    const Binning binning = bin(range, binner);
+    Split best;
+    for (int a = 0; a < 3; ++a) {
+      if (binner.splittable[a]) considerSplits(binning.axes[a], a, best);
     }
     // A leaf costs one test per sphere; an inner node one box test more.
-    if (end - begin <= 2 * kBvhMaxLeafSize && best.cost >= static_cast<float>(end - begin)) return {};
-    return best;
-  }
-
-  // SAH cost (in units of sphere tests, relative to the parent's area) of
-  // each plane between bins, from prefix and suffix sweeps.
-  static void considerSplits(const std::array<Bin, kBins>& bins, int axis, Split& best) {
-    std::array<float, kBins> rightCost{};
-    Box right;
-    std::uint32_t rightCount = 0;
-    for (int b = kBins - 1; b > 0; --b) {
-      right.grow(bins[static_cast<std::size_t>(b)].bounds);
-      rightCount += bins[static_cast<std::size_t>(b)].count;
-      rightCost[static_cast<std::size_t>(b)] = right.halfArea() * static_cast<float>(rightCount);
+    if (best.axis < 0 || (range.count() <= 2 * kBvhMaxLeafSize && best.cost >= static_cast<float>(range.count()))) {
+      return false;
     }
-    Box left, all = right;
-    all.grow(bins[0].bounds);
-    std::uint32_t leftCount = 0;
-    const float parentArea = std::max(all.halfArea(), std::numeric_limits<float>::min());
-    for (int b = 0; b < kBins - 1; ++b) {
-      left.grow(bins[static_cast<std::size_t>(b)].bounds);
-      leftCount += bins[static_cast<std::size_t>(b)].count;
-      if (leftCount == 0 || rightCost[static_cast<std::size_t>(b) + 1] == 0.0f) continue;
-      const float cost =
-          1.0f +
-          (left.halfArea() * static_cast<float>(leftCount) + rightCost[static_cast<std::size_t>(b) + 1]) / parentArea;
-      if (cost < best.cost) best = {axis, b, cost};
+    const AxisBins& bins = binning.axes[best.axis];
+    left = {range.begin, range.begin, {}, {}};
+    right = {range.begin, range.end, {}, {}};
+    for (std::size_t b = 0; b < kBins; ++b) {
+      Range& side = static_cast<int>(b) <= best.bin ? left : right;
+      side.bounds.grow(bins[b].bounds);
+      if (&side == &left) left.end += bins[b].count;
     }
-  }
-
-  std::uint32_t partition(std::uint32_t begin, std::uint32_t end, const Split& split, const Box& centroids) {
-    const auto first = bvh_.order.begin() + begin;
-    const auto mid = std::partition(first, bvh_.order.begin() + end, [&](std::uint32_t s) {
-      return binOf(centres_[s], split.axis, centroids) <= split.bin;
+    right.begin = left.end;
+    const auto first = prims_.begin() + range.begin;
+    const auto axisIndex = static_cast<std::size_t>(best.axis);
+    // std::partition, as the builder always used, so that Bvh::order keeps
+    // its order within leaves. It asks the predicate exactly once per
+    // sphere, which grows that side's centroid bounds on the way.
+    Box leftCentroids, rightCentroids;
+    std::partition(first, first + range.count(), [&](const Prim& p) {
+      const bool goesLeft = p.bin[axisIndex] <= best.bin;
+      const Float4 c = p.load();
+      if (goesLeft) {
+        leftCentroids.grow({c, c});
+      } else {
+        rightCentroids.grow({c, c});
+      }
+      return goesLeft;
     });
-    return static_cast<std::uint32_t>(mid - bvh_.order.begin());
+    left.centroids = leftCentroids;
+    right.centroids = rightCentroids;
+    axis = best.axis;
+    return left.count() > 0 && right.count() > 0;
   }
 
-  std::vector<Box> boxes_;
-  std::vector<glm::vec3> centres_;
-  Bvh bvh_;
+  static BvhNode leafNode(const Range& range) {
+    if (range.count() > BvhNode::kCountMask) throw std::length_error("BVH leaf too large");
+    return {range.bounds.low(), range.begin, range.bounds.high(), range.count()};
+  }
+
+  static BvhNode innerNode(const Range& range, int axis, std::uint32_t left) {
+    return {range.bounds.low(), left, range.bounds.high(), static_cast<std::uint32_t>(axis) << 30};
+  }
+
+  std::unique_ptr<Piece> buildPiece(const Range& range, int depth) {
+    auto piece = std::make_unique<Piece>();
+    piece->depth = depth;
+    if (range.count() < kSerialSubtree) {
+      piece->block.reserve(2 * std::size_t{range.count()} - 1);  // a binary tree over them, at most
+      piece->block.emplace_back();
+      buildSerial(range, depth, 0, *piece);
+      piece->root = piece->block[0];
+      piece->descendants = piece->block.size() - 1;
+      return piece;
+    }
+    int axis = 0;
+    Range left, right;
+    if (!split(range, depth, axis, left, right)) {
+      piece->root = leafNode(range);
+      return piece;
+    }
+    piece->root = innerNode(range, axis, 0);
+    tbb::parallel_invoke([&] { piece->left = buildPiece(left, depth + 1); },
+                         [&] { piece->right = buildPiece(right, depth + 1); });
+    piece->descendants = 2 + piece->left->descendants + piece->right->descendants;
+    piece->depth = std::max(piece->left->depth, piece->right->depth);
+    return piece;
+  }
+
+  void buildSerial(const Range& range, int depth, std::size_t node, Piece& piece) {
+    piece.depth = std::max(piece.depth, depth);
+    int axis = 0;
+    Range left, right;
+    if (!split(range, depth, axis, left, right)) {
+      piece.block[node] = leafNode(range);
+      return;
+    }
+    const auto child = static_cast<std::uint32_t>(piece.block.size());
+    piece.block[node] = innerNode(range, axis, child);
+    piece.block.emplace_back();
+    piece.block.emplace_back();
+    buildSerial(left, depth + 1, child, piece);
+    buildSerial(right, depth + 1, child + 1, piece);
+  }
+
+  // Writes `piece` with its root at nodes[at] and its descendants from nodes[below].
+  static void place(Piece& piece, std::size_t at, std::size_t below, std::vector<BvhNode>& nodes) {
+    BvhNode root = piece.root;
+    if (!root.leaf()) root.first = static_cast<std::uint32_t>(below);
+    nodes[at] = root;
+    if (piece.left) {
+      const std::size_t afterPair = below + 2;
+      tbb::parallel_invoke([&] { place(*piece.left, below, afterPair, nodes); },
+                           [&] { place(*piece.right, below + 1, afterPair + piece.left->descendants, nodes); });
+      return;
+    }
+    const std::size_t shift = below - 1;  // block index k > 0 goes to nodes[k + shift]
+    for (std::size_t k = 1; k < piece.block.size(); ++k) {
+      BvhNode n = piece.block[k];
+      if (!n.leaf()) n.first += static_cast<std::uint32_t>(shift);
+      nodes[k + shift] = n;
+    }
+    piece.block = std::vector<BvhNode>();
+  }
+
+  std::vector<Prim> prims_;
 };
 
 }  // namespace

@@ -57,8 +57,10 @@ inline constexpr int kBvhMaxDepth = RT_BVH_MAX_DEPTH;
 // Spheres a leaf holds at most unless they cannot be told apart (coincident centres).
 inline constexpr std::uint32_t kBvhMaxLeafSize = 4;
 
-// Builds the hierarchy over `spheres` (at least one). Deterministic: the
-// same spheres give the same tree.
+// Builds the hierarchy over `spheres` (at least one; finite, radii > 0, as
+// the loader checks) on oneTBB, in the calling thread's task arena.
+// Deterministic: the same spheres give the same tree, bit for bit, with any
+// number of threads (tests/render/accel/bvh_build_test.cpp).
 Bvh buildBvh(std::span<const Sphere> spheres);
 
 }  // namespace rt
