@@ -1,5 +1,8 @@
 #include "render/accel/wide_bvh.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <limits>
@@ -34,6 +37,7 @@ class Collapser {
   WideBvh collapse() && {
     wide_.nodes.emplace_back();
     fill(0, {0u}, 0);
+    fillLeaves();
     return std::move(wide_);
   }
 
@@ -123,14 +127,32 @@ class Collapser {
     return WideChild::inner(index);
   }
 
+  // Numbers the leaf; its block is filled by fillLeaves() once all are numbered.
   WideChild addLeaf(Subtree s) {
-    const auto block = static_cast<std::uint32_t>(wide_.leaves.size());
+    const auto block = static_cast<std::uint32_t>(leafRanges_.size());
     if (block > WideChild::kBlockMask) throw std::length_error("wide BVH: too many leaves");
-    LeafBlock leaf{};
+    leafRanges_.push_back(s);
+    return WideChild::leafOf(block, s.count);
+  }
+
+  // The leaves' spheres gathered into their blocks, on the pool: each block
+  // and its index slots depend on its own range of Bvh::order alone.
+  void fillLeaves() {
+    wide_.leaves.resize(leafRanges_.size());
+    wide_.index.resize(leafRanges_.size() * kWideBvhWidth);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leafRanges_.size(), 1024), [&](const auto& r) {
+      for (std::size_t block = r.begin(); block != r.end(); ++block) fillLeaf(block);
+    });
+  }
+
+  void fillLeaf(std::size_t block) {
+    const Subtree s = leafRanges_[block];
+    LeafBlock& leaf = wide_.leaves[block];
+    const std::span<std::int32_t> index = std::span(wide_.index).subspan(block * kWideBvhWidth, kWideBvhWidth);
     leaf.radiusSquared.fill(-1.0f);
     for (std::uint32_t k = 0; k < kWideBvhWidth; ++k) {
       if (k >= s.count) {
-        wide_.index.push_back(-1);
+        index[k] = -1;
         continue;
       }
       const std::uint32_t i = bvh_.order[s.first + k];
@@ -139,15 +161,14 @@ class Collapser {
       leaf.centerY[k] = sphere.position.y;
       leaf.centerZ[k] = sphere.position.z;
       leaf.radiusSquared[k] = sphere.radius * sphere.radius;  // as the kernels' SphereArrays
-      wide_.index.push_back(static_cast<std::int32_t>(i));
+      index[k] = static_cast<std::int32_t>(i);
     }
-    wide_.leaves.push_back(leaf);
-    return WideChild::leafOf(block, s.count);
   }
 
   const Bvh& bvh_;
   std::span<const Sphere> spheres_;
   std::vector<Subtree> subtrees_;
+  std::vector<Subtree> leafRanges_;  // by leaf block
   WideBvh wide_;
 };
 

@@ -5,12 +5,15 @@
 #include "render/accel/wide_bvh.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "render/accel/accel_scenes.h"
+#include "render/accel/reference_wide_bvh.h"
 #include "render/cpu_renderers.h"
 #include "render/render_test_support.h"
 #include "render/simd/packet_kernels.h"
@@ -114,6 +117,40 @@ TEST(WideBvh, PilesOfCoincidentSpheresBecomeNodesOfFullLeaves) {
   EXPECT_TRUE(std::ranges::all_of(check.seen, [](int n) { return n == 1; }));
   EXPECT_EQ(check.largestLeaf, static_cast<std::uint32_t>(kWideBvhWidth));
   EXPECT_EQ(wide.depth, 2);
+}
+
+// The collapse fills its leaf blocks on the pool: the tree, blocks and
+// index are the one-thread collapse's (reference_wide_bvh.h), bit for bit,
+// with any number of threads.
+void expectReferenceWideTree(std::span<const Sphere> spheres, const std::string& label) {
+  const Bvh bvh = buildBvh(spheres);
+  const WideBvh expected = test::referenceWideBvh(bvh, spheres);
+  for (const int threads : {1, 3}) {
+    tbb::task_arena arena(threads);
+    const WideBvh wide = arena.execute([&] { return buildWideBvh(bvh, spheres); });
+    const std::string where = label + " threads " + std::to_string(threads);
+    ASSERT_EQ(wide.nodes.size(), expected.nodes.size()) << where;
+    for (std::size_t i = 0; i < wide.nodes.size(); ++i) {
+      const WideBvhNode &a = expected.nodes[i], &b = wide.nodes[i];
+      ASSERT_EQ(std::memcmp(&a.bounds, &b.bounds, sizeof a.bounds), 0) << where << " node " << i;
+      ASSERT_EQ(std::memcmp(&a.child, &b.child, sizeof a.child), 0) << where << " node " << i;
+      ASSERT_EQ(a.childCount, b.childCount) << where << " node " << i;
+    }
+    ASSERT_EQ(wide.leaves.size(), expected.leaves.size()) << where;
+    EXPECT_EQ(std::memcmp(wide.leaves.data(), expected.leaves.data(), wide.leaves.size() * sizeof(LeafBlock)), 0)
+        << where;
+    EXPECT_EQ(wide.index, expected.index) << where;
+    EXPECT_EQ(wide.depth, expected.depth) << where;
+  }
+}
+
+TEST(WideBvh, MatchesTheReferenceCollapse) {
+  for (const char* name : test::kSceneNames) expectReferenceWideTree(test::loadNamedScene(name).spheres, name);
+  for (const auto& [name, scene] : test::adversarialScenes()) expectReferenceWideTree(scene.spheres, name);
+  expectReferenceWideTree(test::randomSpheres(100000, 60, 0.4f), "random 100000");
+  std::vector<Sphere> piles = test::randomSpheres(20000, 30, 0.5f);
+  for (std::size_t i = 0; i < piles.size(); ++i) piles[i].position = piles[i / 70 * 70].position;
+  expectReferenceWideTree(piles, "piles of 70");
 }
 
 struct TraversalCase {
