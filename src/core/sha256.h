@@ -15,7 +15,7 @@ class Sha256 {
   std::array<std::uint8_t, 32> finish();
 
  private:
-  void compressBlock(const std::uint8_t* block);
+  void compressBlocks(const std::uint8_t* data, std::size_t blocks);
   std::array<std::uint32_t, 8> state_;
   std::array<std::uint8_t, 64> buffer_{};
   std::size_t buffered_ = 0;

@@ -13,9 +13,9 @@
 #include <future>
 #include <glm/geometric.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
 
@@ -125,7 +125,7 @@ double number(od::value& v, const Location& at) {
 // Exactly three finite numbers. The count is judged before the elements, as
 // a whole-array rule: an element's fault is held until the count is known.
 glm::dvec3 vector(od::value& v, const Location& at) {
-  const std::string shape = "expected an array of 3 numbers";
+  constexpr const char* shape = "expected an array of 3 numbers";
   if (typeOf(v, at) != od::json_type::array) fail(at, shape);
   glm::dvec3 out{0.0};
   std::size_t count = 0;
@@ -359,15 +359,15 @@ Scene readDocument(od::document& doc) {
   const od::json_type type = take(doc.type(), root);
   if (type != od::json_type::object) fail(root, std::string("expected an object, got ") + typeName(type));
   Scene scene;
-  const auto seen = readObject(take(doc.get_object(), root), root, kKeys,
-                               [&](std::size_t key, od::value& m, const Location& where) {
-                                 switch (key) {
-                                   case 0: scene.camera = readCamera(m, where); break;
-                                   case 1: scene.lightData = readLight(m, where); break;
-                                   case 2: scene.spheres = readSpheres(m, where); break;
-                                   default: scene.render = readRender(m, where);
-                                 }
-                               });
+  const auto seen =
+      readObject(take(doc.get_object(), root), root, kKeys, [&](std::size_t key, od::value& m, const Location& where) {
+        switch (key) {
+          case 0: scene.camera = readCamera(m, where); break;
+          case 1: scene.lightData = readLight(m, where); break;
+          case 2: scene.spheres = readSpheres(m, where); break;
+          default: scene.render = readRender(m, where);
+        }
+      });
   requireMembers(seen, root, kKeys, {0, 1, 2});
   // Past the root object the document must end ("{...} {...}" is no scene).
   if (doc.current_location().error() != simdjson::OUT_OF_BOUNDS) throw SyntaxFault{"", simdjson::TRAILING_CONTENT};
@@ -545,6 +545,10 @@ constexpr std::size_t kMaxSceneFileBytes = std::size_t{512} << 20;
   throw SceneError(path.string(), "", reason + ": " + std::generic_category().message(errno));
 }
 
+SceneError tooLarge(const std::filesystem::path& path) {
+  return SceneError(path.string(), "", "larger than " + std::to_string(kMaxSceneFileBytes >> 20) + " MiB");
+}
+
 // Owns an open file descriptor.
 class FileHandle {
  public:
@@ -571,9 +575,7 @@ PaddedText readAll(const std::filesystem::path& path, int fd, std::size_t expect
     if (got < 0) failToRead(path, "read failed");
     if (got == 0) return text;
     text.grow(static_cast<std::size_t>(got));
-    if (text.view().size() > kMaxSceneFileBytes) {
-      throw SceneError(path.string(), "", "larger than " + std::to_string(kMaxSceneFileBytes >> 20) + " MiB");
-    }
+    if (text.view().size() > kMaxSceneFileBytes) throw tooLarge(path);
   }
 }
 
@@ -585,9 +587,11 @@ PaddedText readSceneText(const std::filesystem::path& path) {
   if (ec) throw SceneError(path.string(), "", "cannot open file: " + ec.message());
   if (std::filesystem::is_directory(status)) throw SceneError(path.string(), "", "is a directory, not a scene file");
   const bool regular = std::filesystem::is_regular_file(status);
-  if (!regular && !std::filesystem::is_fifo(status)) throw SceneError(path.string(), "", "not a regular file or a pipe");
+  if (!regular && !std::filesystem::is_fifo(status))
+    throw SceneError(path.string(), "", "not a regular file or a pipe");
   const FileHandle file(path);
   const std::size_t expected = regular ? static_cast<std::size_t>(std::filesystem::file_size(path, ec)) : 0;
+  if (!ec && expected > kMaxSceneFileBytes) throw tooLarge(path);
   return readAll(path, file.fd(), ec ? 0 : std::max<std::size_t>(expected, 1 << 16));
 }
 
