@@ -108,8 +108,8 @@ const char* typeName(od::json_type type) {
     case od::json_type::string: return "string";
     case od::json_type::boolean: return "boolean";
     case od::json_type::null: return "null";
+    default: return "value";  // a kind newer simdjson releases may add
   }
-  return "value";
 }
 
 od::json_type typeOf(od::value& v, const Location& at) { return take(v.type(), at); }
