@@ -136,10 +136,10 @@ def test_malformed_json_exits_2(raytracer, tmp_path):
 def test_a_scene_file_over_the_size_limit_is_refused_unread(raytracer, tmp_path):
     huge = tmp_path / "huge.json"
     with huge.open("wb") as f:
-        f.truncate((512 << 20) + 1)  # sparse: nothing is written, nor read
+        f.truncate((1 << 30) + 1)  # sparse: nothing is written, nor read
     done = run(raytracer, huge, *SMALL)
     assert done.returncode == 2
-    assert "huge.json" in done.stderr and "larger than 512 MiB" in done.stderr
+    assert "huge.json" in done.stderr and "larger than 1024 MiB" in done.stderr
 
 
 def test_missing_scene_file_exits_2(raytracer, tmp_path):
