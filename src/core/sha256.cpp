@@ -140,12 +140,12 @@ __attribute__((target("sha,sse4.1"))) void compressShaExtensions(std::array<std:
 
 }  // namespace
 
-Sha256::Sha256() : state_(constants().initialState) {}
+Sha256::Sha256(Sha256Kernel kernel) : state_(constants().initialState), kernel_(kernel) {}
 
 void Sha256::compressBlocks(const std::uint8_t* data, std::size_t blocks) {
 #if defined(__x86_64__)
   static const bool shaExtensions = hasShaExtensions();
-  if (shaExtensions) {
+  if (shaExtensions && kernel_ == Sha256Kernel::fastest) {
     compressShaExtensions(state_, data, blocks);
     return;
   }
@@ -185,8 +185,8 @@ std::array<std::uint8_t, 32> Sha256::finish() {
   return digest;
 }
 
-std::string sha256Hex(std::span<const std::uint8_t> bytes) {
-  Sha256 hash;
+std::string sha256Hex(std::span<const std::uint8_t> bytes, Sha256Kernel kernel) {
+  Sha256 hash(kernel);
   hash.update(bytes);
   static constexpr char kHex[] = "0123456789abcdef";
   std::string hex;
