@@ -38,6 +38,8 @@ endmacro()
 rt_require_package(Threads libc6-dev)
 rt_require_package(glm libglm-dev)
 rt_require_package(nlohmann_json nlohmann-json3-dev)
+# The scene loader's parser (On-Demand API; Debian 12 ships 3.0.1).
+rt_require_package(simdjson libsimdjson-dev)
 rt_require_package(CLI11 libcli11-dev)
 rt_require_pkg_config(STB stb libstb-dev)
 # Threads of the simd_tbb and tbb_only renderers.
@@ -94,6 +96,7 @@ rt_optional_feature(RT_WINDOW glfw3 3.3 libglfw3-dev "the live window (--window)
 set(RT_LIBRARY_VERSIONS
   "glm=${glm_VERSION}"
   "nlohmann_json=${nlohmann_json_VERSION}"
+  "simdjson=${simdjson_VERSION}"
   "CLI11=${CLI11_VERSION}"
   "stb=${STB_VERSION}"
   "TBB=${TBB_VERSION}"

@@ -229,6 +229,8 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     host = meta.get(names.META_HOST) or {}
     frames[names.STAGE] = [names.stage_of(a, e) for a, e in zip(frames[names.ALGORITHM], frames[names.EARLY_EXIT])]
     frames[names.SPHERES] = _sphere_count(meta_path, meta)
+    for column, value in _startup_times(meta).items():
+        frames[column] = value
     frames[names.REPETITION] = repetition
     frames[names.CONFIG_ID] = config_id
     frames[names.BUILD_TYPE] = str(build.get(names.BUILD_TYPE, ""))
@@ -270,6 +272,23 @@ def _sphere_count(meta_path: Path, meta: dict) -> int:
             f"{meta_path}: {names.META_SCENE}.{names.META_SCENE_SPHERES} must be a sphere count, not {count!r}"
         )
     return count
+
+
+def _startup_times(meta: dict) -> dict[str, float]:
+    """The run's load, build and prepare times in ms; NaN where the sidecar
+    has none (a run from before they were recorded, or no BVH to build)."""
+
+    def ms(value) -> float:
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        return float(value) if ok else math.nan
+
+    scene = meta.get(names.META_SCENE) or {}
+    structure = meta.get(names.META_ACCEL_STRUCTURE) or {}
+    return {
+        names.LOAD_MS: ms(scene.get(names.META_SCENE_LOAD_MS)),
+        names.BUILD_MS: ms(structure.get(names.META_ACCEL_BUILD_MS)),
+        names.PREPARE_MS: ms(meta.get(names.META_PREPARE_MS)),
+    }
 
 
 def _check_against_meta(csv_path: Path, meta_path: Path, columns: dict, meta: dict) -> None:

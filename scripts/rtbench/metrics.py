@@ -189,6 +189,24 @@ def scaling_table(summary: pd.DataFrame) -> pd.DataFrame:
     return pd.concat(parts, ignore_index=True)
 
 
+# --- start-up vs spheres -------------------------------------------------------------
+
+STARTUP_KEYS = [names.SCENE, names.SPHERES, names.ACCEL]
+
+
+def startup_times(frames: pd.DataFrame) -> pd.DataFrame:
+    """Median load, build and prepare time per scene and accel, one value per
+    run (every frame of a run carries the same ones); empty where no run
+    recorded its load time (runs from before it was)."""
+    if names.LOAD_MS not in frames or frames[names.LOAD_MS].isna().all():
+        return pd.DataFrame()
+    runs = frames.drop_duplicates([names.SOURCE, names.CONFIG_ID, names.REPETITION])
+    grouped = runs.groupby(STARTUP_KEYS, sort=True)
+    table = grouped[[names.LOAD_MS, names.BUILD_MS, names.PREPARE_MS]].median()
+    table["runs"] = grouped.size()
+    return table.reset_index().sort_values([names.SPHERES, names.SCENE, names.ACCEL], ignore_index=True)
+
+
 # --- cost vs spheres ---------------------------------------------------------------
 
 # A configuration but for its scene: the points of one cost-vs-spheres curve.

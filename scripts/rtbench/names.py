@@ -94,8 +94,12 @@ META_SCENE = _meta_key("scene")
 META_RUN_ID = _meta_key("run_id")
 META_DEVICE = _meta_key("device")
 META_LIBRARIES = _meta_key("libraries")
+META_PREPARE_MS = _meta_key("prepare_ms")
+META_ACCEL_STRUCTURE = _meta_key("accel_structure")
 # Keys inside the metadata's objects.
 META_SCENE_SPHERES = _meta_field(META_SCENE, "spheres")
+META_SCENE_LOAD_MS = _meta_field(META_SCENE, "load_ms")
+META_ACCEL_BUILD_MS = _meta_field(META_ACCEL_STRUCTURE, "build_ms")
 META_CONFIG_WARMUP_FRAMES = _meta_field(META_CONFIG, "warmup_frames")
 META_CONFIG_MEASURED_FRAMES = _meta_field(META_CONFIG, "measured_frames")
 META_CONFIG_SIMD_TARGET = _meta_field(META_CONFIG, "simd_target")
@@ -116,6 +120,11 @@ META_DEVICE_API_VERSION = _meta_field(META_DEVICE, "api_version")
 # those taken from the metadata are named as its keys.
 STAGE = "stage"
 SPHERES = "spheres"  # the scene's sphere count, from the metadata
+# Start-up times of the run, from the metadata (NaN where a sidecar lacks
+# them: runs before they were recorded, accel none for the build).
+LOAD_MS = META_SCENE_LOAD_MS
+BUILD_MS = META_ACCEL_BUILD_MS
+PREPARE_MS = META_PREPARE_MS
 REPETITION = "repetition"
 CONFIG_ID = "config_id"
 BUILD_TYPE = _meta_field(META_BUILD, "build_type")

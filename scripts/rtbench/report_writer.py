@@ -106,6 +106,9 @@ def compute(inputs: ReportInputs) -> ReportResults:
     variants = metrics.gpu_variants(inputs.frames)
     if not variants.empty:
         built.append(tables.gpu_variants(variants))
+    startup = metrics.startup_times(inputs.frames)
+    if not fits.empty and not startup.empty:
+        built.append(tables.startup_vs_spheres(startup))
     warnings = collect_warnings(inputs, summary)
     return ReportResults(
         summary,
@@ -379,13 +382,14 @@ def _cost_section(by_slug: dict[str, tables.Table], figures: dict[str, list[Path
     configurations on enough sphere counts to fit it."""
     if "cost-vs-spheres" not in by_slug:
         return ""
-    return "\n".join(
-        [
-            "## Cost vs spheres\n",
-            tables.to_markdown(by_slug["cost-vs-spheres"]),
-            _figure(figures, "cost_vs_spheres", "Cost vs spheres (log-log, fitted power laws)", out),
-        ]
-    )
+    parts = [
+        "## Cost vs spheres\n",
+        tables.to_markdown(by_slug["cost-vs-spheres"]),
+        _figure(figures, "cost_vs_spheres", "Cost vs spheres (log-log, fitted power laws)", out),
+    ]
+    if "startup-vs-spheres" in by_slug:
+        parts.append(tables.to_markdown(by_slug["startup-vs-spheres"]))
+    return "\n".join(parts)
 
 
 def _gpu_variants_section(by_slug: dict[str, tables.Table]) -> str:

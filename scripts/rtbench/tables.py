@@ -683,6 +683,34 @@ def thesis_published(thesis_metrics: pd.DataFrame) -> Table:
     )
 
 
+def startup_vs_spheres(startup: pd.DataFrame) -> Table:
+    """Median load, build and prepare time per scene and accel (metrics.startup_times)."""
+    rows = [
+        [
+            str(r[names.SCENE]),
+            fmt_int(r[names.SPHERES]),
+            str(r[names.ACCEL]),
+            fmt_int(r["runs"]),
+            fmt_ms(r[names.LOAD_MS]),
+            fmt_ms(r[names.BUILD_MS]),
+            fmt_ms(r[names.PREPARE_MS]),
+        ]
+        for r in startup.to_dict("records")
+    ]
+    return Table(
+        "startup-vs-spheres",
+        "Before the first frame: median load and build time per scene",
+        ["scene", "spheres", "accel", "runs", "load ms", "build ms", "prepare ms"],
+        rows,
+        "lrlrrrr",
+        [
+            "load = reading, parsing and checking the scene file (metadata scene.load_ms); build = the acceleration "
+            "structure's build (accel_structure.build_ms, none with accel none); prepare = all of the renderer's "
+            f"prepare(), the build included. {MISSING}: not recorded (runs from before these times were)."
+        ],
+    )
+
+
 def cost_vs_spheres(fits: pd.DataFrame) -> Table:
     """The fitted exponent k of median render_ms = c N^k per configuration
     that ran on several sphere counts (metrics.cost_fits)."""

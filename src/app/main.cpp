@@ -15,6 +15,7 @@
 #include "app/run_identity.h"
 #include "app/run_metadata.h"
 #include "app/run_summary.h"
+#include "app/stage_progress.h"
 #include "core/atomic_file.h"
 #include "core/profiler.h"
 #include "gpu/present/window_presentation.h"
@@ -42,6 +43,17 @@ void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, 
   for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
     if (result.savedFrames[i].filled) rt::writePng(result.savedFrames[i].image, config.saveFrames[i].file);
   }
+}
+
+// Where the lines of slow start-up stages go: stderr, nowhere with --quiet.
+std::ostream* progressStream(const rt::RunConfig& config) { return config.quiet ? nullptr : &std::cerr; }
+
+// "scenes/x.json (125 MB)"; a pipe's size is not known before it is read.
+std::string describeSceneFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
+  if (ec || bytes == 0) return path.string();
+  return path.string() + " (" + std::to_string((bytes + 500'000) / 1'000'000) + " MB)";
 }
 
 // Blocks until a Tracy viewer is connected, so the capture holds every frame.
@@ -91,13 +103,21 @@ int validationVerdict(const rt::gpu::ValidationCounter* validation) {
 
 // Opens the device, runs the frame loop, writes the outputs. Returns the
 // validation counter of the device used (null without --vk-validation).
-std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunConfig& config, const rt::Scene& scene) {
+std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunConfig& config, const rt::Scene& scene,
+                                                                 double loadMs) {
   const rt::DeviceSetup setup = rt::setUpDevice(config, std::cerr);
   auto renderer = rt::makeRenderer(config.renderer, config.parallel, setup.present);
 
-  rt::RunTimes times{std::chrono::system_clock::now(), {}};
+  rt::RunTimes times{std::chrono::system_clock::now(), {}, loadMs, 0.0};
   if (config.tracyWait) waitForTracyViewer();
-  renderer->prepare(scene, config.extent, config.options);
+  {
+    rt::StageProgress stage("preparing " + std::string(rt::nameOf(config.renderer)) + " (" +
+                                std::to_string(scene.spheres.size()) + " spheres, accel " +
+                                std::string(rt::nameOf(config.options.accel)) + ")",
+                            progressStream(config));
+    renderer->prepare(scene, config.extent, config.options);
+    times.prepareMs = stage.finish();
+  }
   const rt::RunIdentity identity =
       rt::makeRunIdentity(rt::makeRunId(times.startedAt), scene, *renderer, config, rt::recordedDevice(setup));
   [[maybe_unused]] const std::string description = describeRun(identity, config);
@@ -122,8 +142,10 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
 
 int run(const rt::RunConfig& config) {
   if (config.listDevices) return listDevices(config);
+  rt::StageProgress stage("loading " + describeSceneFile(config.scenePath), progressStream(config));
   const rt::Scene scene = rt::loadScene(config.scenePath);
-  const auto validation = renderAndWrite(config, scene);
+  const double loadMs = stage.finish();
+  const auto validation = renderAndWrite(config, scene, loadMs);
   return validationVerdict(validation.get());
 }
 

@@ -117,7 +117,7 @@ nlohmann::json buildJson() {
   });
 }
 
-nlohmann::json sceneJson(const RunConfig& config, const Scene& scene) {
+nlohmann::json sceneJson(const RunConfig& config, const Scene& scene, double loadMs) {
   using Key = schema::MetadataSceneKey;
   return objectOf<Key>(schema::kMetadataSceneKeyNames, [&](Key key) -> nlohmann::json {
     switch (key) {
@@ -125,6 +125,7 @@ nlohmann::json sceneJson(const RunConfig& config, const Scene& scene) {
       case Key::path: return config.scenePath.string();
       case Key::sha256: return scene.sha256;
       case Key::spheres: return scene.spheres.size();
+      case Key::load_ms: return loadMs;
     }
     unhandledKey("scene");
   });
@@ -307,7 +308,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::schema_version: value = schema::kVersion; break;
       case RunMetadataKey::run_id: value = identity.runId; break;
       case RunMetadataKey::command_line: value = config.commandLine; break;
-      case RunMetadataKey::scene: value = sceneJson(config, scene); break;
+      case RunMetadataKey::scene: value = sceneJson(config, scene, times.loadMs); break;
       case RunMetadataKey::config: value = configJson(config, identity); break;
       case RunMetadataKey::build: value = buildJson(); break;
       case RunMetadataKey::host: value = hostInfo(); break;
@@ -315,6 +316,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::started_at: value = formatRfc3339(times.startedAt); break;
       case RunMetadataKey::finished_at: value = formatRfc3339(times.finishedAt); break;
       case RunMetadataKey::outputs: value = outputsJson(config); break;
+      case RunMetadataKey::prepare_ms: value = times.prepareMs; break;
       case RunMetadataKey::accel_structure: value = accelStructureJson(identity.renderer); break;
       case RunMetadataKey::lane_counters: value = laneCountersJson(laneCounters); break;
       case RunMetadataKey::device: value = deviceJson(identity); break;

@@ -15,6 +15,8 @@ namespace rt {
 struct RunTimes {
   std::chrono::system_clock::time_point startedAt;
   std::chrono::system_clock::time_point finishedAt;
+  double loadMs = 0.0;     // reading and checking the scene file
+  double prepareMs = 0.0;  // the renderer's prepare()
 };
 
 // --window: what the window's swapchain did over the run, and whether the

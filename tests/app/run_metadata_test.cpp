@@ -28,6 +28,17 @@ TEST(RunMetadata, HasEverySchemaKeyAndTheSceneHash) {
   EXPECT_TRUE(commit.size() == 40 || commit == "unknown") << commit;
 }
 
+TEST(RunMetadata, RecordsTheLoadAndPrepareTimes) {
+  RunConfig config;
+  config.scenePath = test::scenePath("default");
+  const Scene scene = loadScene(config.scenePath);
+  const auto now = std::chrono::system_clock::now();
+  const RunIdentity id{makeRunId(now), scene.name, SequentialRenderer().info(), config.options, config.extent};
+  const nlohmann::json meta = makeRunMetadata(config, id, scene, {now, now, 12.5, 34.25});
+  EXPECT_EQ(meta["scene"]["load_ms"], 12.5);
+  EXPECT_EQ(meta["prepare_ms"], 34.25);
+}
+
 TEST(RunMetadata, WindowObjectIsTheRunsWindowOutcome) {
   RunConfig config;
   config.scenePath = test::scenePath("default");

@@ -4,6 +4,7 @@ import csv
 import hashlib
 import json
 import os
+import re
 import stat
 import subprocess
 
@@ -132,6 +133,15 @@ def test_malformed_json_exits_2(raytracer, tmp_path):
     assert "broken.json" in done.stderr and "line 1" in done.stderr
 
 
+def test_a_scene_file_over_the_size_limit_is_refused_unread(raytracer, tmp_path):
+    huge = tmp_path / "huge.json"
+    with huge.open("wb") as f:
+        f.truncate((1 << 30) + 1)  # sparse: nothing is written, nor read
+    done = run(raytracer, huge, *SMALL)
+    assert done.returncode == 2
+    assert "huge.json" in done.stderr and "larger than 1024 MiB" in done.stderr
+
+
 def test_missing_scene_file_exits_2(raytracer, tmp_path):
     done = run(raytracer, tmp_path / "nope.json", *SMALL)
     assert done.returncode == 2
@@ -185,7 +195,25 @@ def test_accel_is_recorded_with_the_structure_it_built(raytracer, repo_root, tmp
             # A binary tree that split the 100 spheres: an odd node count above 1.
             assert structure["kind"] == "bvh" and structure["nodes"] > 1 and structure["nodes"] % 2 == 1
             assert structure["build_ms"] > 0 and structure["depth"] >= 1
+        assert meta["scene"]["load_ms"] > 0 and meta["prepare_ms"] > 0
     assert run(raytracer, flag, "--accel", "kd-tree", *SMALL).returncode == 2
+
+
+def test_a_slow_load_says_so_on_stderr_and_a_fast_one_does_not(raytracer, repo_root):
+    """A stage that runs over a second gets a line when it has, and its time
+    when it ends; a scene read from a pipe whose writer waits 1.5 s is one."""
+    scene = repo_root / "scenes/random20.json"
+    args = ["--width", "8", "--height", "8", "--warmup", "0", "--frames", "1"]
+    slow = f"{raytracer} <(sleep 1.5; cat {scene}) {' '.join(args)}"
+    done = subprocess.run(["bash", "-c", slow], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    lines = done.stderr.splitlines()
+    assert lines[0].startswith("raytracer: loading /dev/fd/") and lines[0].endswith(" ...")
+    assert re.fullmatch(r"raytracer: loading /dev/fd/\d+: done in \d+\.\d s", lines[1]), lines
+    quiet = subprocess.run(["bash", "-c", slow + " --quiet"], capture_output=True, text=True)
+    assert quiet.returncode == 0 and quiet.stderr == ""
+    fast = run(raytracer, scene, *args)
+    assert fast.returncode == 0 and "raytracer: loading" not in fast.stderr
 
 
 # The traversal axis and the counters belong to the SIMD kernel (schema:

@@ -3,13 +3,14 @@
 // give a scene the renderers can take: every number inside the Limits of
 // that section, and a camera that stays finite in every frame a run can
 // reach. Anything else (another exception, a sanitizer report, a broken
-// promise) is a crash.
+// promise, a text accepted that is not well-formed JSON) is a crash.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 #include <string_view>
 
 #include "rt_schema.h"
@@ -66,6 +67,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
     checkAccepted(rt::parseScene(text, "fuzz.json"));
+    // The loader's fast parser reads lazily; nlohmann, which parsed every
+    // scene before it, must find an accepted text well-formed too.
+    require(nlohmann::json::accept(text), "accepted text nlohmann calls malformed");
   } catch (const rt::SceneError&) {
     // Refused with a message naming the file and the JSON path: the expected outcome.
   }

@@ -1,8 +1,11 @@
 #include "scene/scene_loader.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
 
@@ -290,6 +293,53 @@ TEST(SceneLoader, RejectsUnknownKeysAtEveryLevel) {
   EXPECT_EQ(rejectionPath([](Json& j) { j["lightData"]["color"] = {1, 1, 1}; }), "lightData.color");
   EXPECT_EQ(rejectionPath([](Json& j) { j["spheres"][1]["radious"] = 1; }), "spheres[1].radious");
   EXPECT_EQ(rejectionPath([](Json& j) { j["render"]["depth"] = 3; }), "render.depth");
+}
+
+TEST(SceneLoader, RejectsAKeyGivenTwice) {
+  std::string text = validScene().dump();
+  const auto at = text.find("\"fov\":60");
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at, "\"fov\":50,");
+  EXPECT_EQ(rejectionPath(text), "camera.fov");
+  try {
+    parseScene(text, "scenes/test.json");
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("duplicate key"), std::string::npos) << e.what();
+  }
+}
+
+// The fast parser stops at the first broken rule; the text is then read
+// again so that a syntax error anywhere still takes precedence, as it did
+// when the whole text was parsed before any rule was checked.
+TEST(SceneLoader, ASyntaxErrorAfterABrokenRuleIsReportedAsTheSyntaxError) {
+  Json j = validScene();
+  j["spheres"][0]["radius"] = -1;
+  for (const std::string tail : {" {}", ",", "]"}) {
+    try {
+      parseScene(j.dump() + tail, "scenes/test.json");
+      ADD_FAILURE() << "accepted a text ending in " << tail;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("malformed JSON at line 1"), std::string::npos) << e.what();
+      EXPECT_EQ(e.jsonPath(), "");
+    }
+  }
+}
+
+// A file longer than one read() and large enough for the hash to run beside
+// the parse: every sphere arrives, and the hash is the file's.
+TEST(SceneLoader, LoadsALargeFileWithItsHash) {
+  Json j = validScene();
+  constexpr int kSpheres = 20000;  // about 1.5 MB of JSON
+  for (int i = 0; i < kSpheres; ++i) {
+    j["spheres"].push_back({{"position", {i % 100, i / 100, 0}}, {"radius", 0.25}, {"color", {0.5, 0.5, 0.5}}});
+  }
+  const auto path = std::filesystem::temp_directory_path() / ("rt-large-scene-" + std::to_string(::getpid()) + ".json");
+  std::ofstream(path) << j.dump(1);
+  const Scene s = loadScene(path);
+  EXPECT_EQ(s.spheres.size(), kSpheres + 2u);
+  EXPECT_FLOAT_EQ(s.spheres.back().position.y, static_cast<float>((kSpheres - 1) / 100));
+  EXPECT_EQ(s.sha256, sha256HexOfFile(path));
+  std::filesystem::remove(path);
 }
 
 TEST(SceneLoader, RejectsOutOfRangeRenderParameters) {

@@ -2,6 +2,7 @@
 directory written here whose frame times follow known power laws, through
 the loader and the report."""
 
+import json
 import math
 import sys
 from pathlib import Path
@@ -9,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rtbench import atomic, metrics, names, plots, report_writer, tables
+from rtbench import atomic, load, metrics, names, plots, report_writer, tables
 
 sys.path.insert(0, str(Path(__file__).parent / "fixtures"))
 import make_thesis_run as fixture
@@ -82,6 +83,41 @@ def test_the_report_has_the_table_the_data_and_the_plot(report):
     assert "## Cost vs spheres" in readme and "plots/cost_vs_spheres.png" in readme
     assert "No cost-vs-spheres figure" not in readme
     assert len((out / "data/cost_vs_spheres.csv").read_text().splitlines()) == len(LAWS) + 1
+
+
+def test_runs_without_load_times_have_no_startup_table(report):
+    """Sidecars from before the load time was recorded (this fixture's) load,
+    and the report leaves the table out rather than showing it empty."""
+    results, out = report
+    assert not any(t.slug == "startup-vs-spheres" for t in results.tables)
+    assert "Before the first frame" not in (out / "README.md").read_text()
+
+
+def test_load_and_build_times_are_reported_per_scene(tmp_path):
+    """Each sidecar given load and build times that grow with N: the table's
+    medians are those of the runs, one row per scene and accel."""
+    run = tmp_path / "power-laws"
+    write_power_law_run(run)
+    for meta_path in (run / load.FRAMES_DIR).glob(f"*{load.META_SUFFIX}"):
+        meta = json.loads(meta_path.read_text())
+        n = meta["scene"]["spheres"]
+        rep = int(meta_path.name.split("-r")[-1][0])
+        meta["scene"]["load_ms"] = 0.01 * n + rep  # medians: 0.01 N + 0.5
+        meta["prepare_ms"] = 0.02 * n
+        if meta["config"]["accel"] != names.BRUTE_FORCE:
+            meta["accel_structure"] = {"kind": meta["config"]["accel"], "build_ms": 0.003 * n, "nodes": 1, "depth": 1}
+        atomic.write_json(meta_path, meta)
+    inputs = report_writer.gather([run])
+    results = report_writer.compute(inputs)
+    (table,) = [t for t in results.tables if t.slug == "startup-vs-spheres"]
+    rows = {(r[1], r[2]): r for r in table.rows}
+    assert len(rows) == 2 * len(COUNTS)  # brute force and the BVH at every count
+    for n in COUNTS:
+        brute, bvh = rows[(str(n), names.BRUTE_FORCE)], rows[(str(n), names.ACCELS[-1])]
+        assert brute[4] == tables.fmt_ms(0.01 * n + 0.5) and brute[5] == tables.MISSING
+        assert bvh[5] == tables.fmt_ms(0.003 * n) and bvh[6] == tables.fmt_ms(0.02 * n)
+    readme = report_writer.readme(inputs, results, {}, run / "report")
+    assert "Before the first frame" in readme
 
 
 def test_power_law_fit_of_noisy_times_and_too_few_points():

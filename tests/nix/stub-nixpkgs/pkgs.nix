@@ -32,6 +32,7 @@ lib.genAttrs [
   "makeWrapper"
   "glm"
   "nlohmann_json"
+  "simdjson"
   "cli11"
   "stb"
   "onetbb"
