@@ -14,6 +14,7 @@
 #include "render/accel/accel_scenes.h"
 #include "render/cpu_renderers.h"
 #include "render/scalar/double_reference.h"
+#include "render/scale_agreement.h"
 #include "test_support.h"
 
 namespace rt::test {
@@ -87,6 +88,17 @@ TEST_F(GpuAgreement, CameraInsideASphereAgreesWithDoublePrecision) {
     const ImageAgreement agreement = compareImages(actual, expected);
     EXPECT_TRUE(agreement.agrees()) << nameOf(algorithm) << ": " << describe(agreement);
   }
+}
+
+// docs/render-model.md section 8 at scale: 100,000 spheres against the
+// double reference (on the BVH), under the rule at scale. --accel bvh only:
+// brute force on lavapipe disagrees from about 65,536 spheres on (full
+// frame 47 % within 2/255 at 65,537 spheres, camera rays too at 100,000),
+// an open defect this test would only repeat.
+TEST_F(GpuAgreement, AgreesWithDoublePrecisionAt100000Spheres) {
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  const AgreementBreakdown b = scaleAgreement(gpu, Accel::bvh);
+  EXPECT_TRUE(b.agreesAtScale()) << describe(b);
 }
 
 // --accel bvh against --accel none on the GPU ================================
