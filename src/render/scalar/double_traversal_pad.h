@@ -24,6 +24,8 @@ namespace rt {
 // - a term in sqrt(R scale), as the float pad has for tangent rays, at
 //   2^-26: a margin should that linear bound miss a case, and still far
 //   below the float term.
+// Defined in double_reference.cpp; the grazing-ray test in
+// tests/render/scalar/double_reference_test.cpp fails with a pad of 0.
 double doubleTraversalPad(const Bvh& bvh, double originMaxCoordinate);
 
 }  // namespace rt
