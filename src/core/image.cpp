@@ -29,6 +29,9 @@ namespace {
 constexpr int kChannelTolerance = 2;
 constexpr double kMinFractionWithinTolerance = 0.995;
 constexpr double kMinPsnrDb = 40.0;
+// The rule at scale: pixels only reflected rays change, at most this share
+// times the reflectivity (docs/render-model.md section 8).
+constexpr double kMaxReflectedOnlyPerReflectivity = 0.10;
 }  // namespace
 
 void writePng(const Image& image, const std::filesystem::path& path) {
@@ -60,6 +63,12 @@ bool ImageAgreement::agrees() const {
   return fractionWithinTolerance >= kMinFractionWithinTolerance && psnrDb >= kMinPsnrDb;
 }
 
+namespace {
+int largestChannelDifference(Rgba8 a, Rgba8 b) {
+  return std::max({std::abs(a.r - b.r), std::abs(a.g - b.g), std::abs(a.b - b.b)});
+}
+}  // namespace
+
 ImageAgreement compareImages(const Image& a, const Image& b) {
   if (a.extent() != b.extent()) throw std::invalid_argument("compareImages: extents differ");
   const auto pa = a.pixels();
@@ -80,6 +89,44 @@ ImageAgreement compareImages(const Image& a, const Image& b) {
   result.fractionWithinTolerance = pa.empty() ? 1.0 : static_cast<double>(within) / static_cast<double>(pa.size());
   const double mse = pa.empty() ? 0.0 : squaredError / (3.0 * static_cast<double>(pa.size()));
   result.psnrDb = mse == 0.0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(255.0 * 255.0 / mse);
+  return result;
+}
+
+void DifferenceSizes::add(int difference) {
+  ++pixels;
+  max = std::max(max, difference);
+  std::size_t band = 0;
+  while (difference > kBandUpper[band]) ++band;
+  ++bands[band];
+}
+
+bool AgreementBreakdown::agreesAtScale() const {
+  const auto n = static_cast<double>(pixelCount);
+  return primary.agrees() && full.psnrDb >= kMinPsnrDb &&
+         static_cast<double>(reflectedOnly.pixels) <= kMaxReflectedOnlyPerReflectivity * reflectivity * n &&
+         static_cast<double>(withinWeightedTolerance) >= kMinFractionWithinTolerance * n;
+}
+
+AgreementBreakdown breakDownAgreement(const Image& full, const Image& fullReference, const Image& primary,
+                                      const Image& primaryReference, float reflectivity) {
+  AgreementBreakdown result;
+  result.reflectivity = reflectivity;
+  const int reflectedTolerance = kChannelTolerance + static_cast<int>(255.0f * reflectivity);
+  result.full = compareImages(full, fullReference);
+  result.primary = compareImages(primary, primaryReference);
+  if (primary.extent() != full.extent()) throw std::invalid_argument("breakDownAgreement: extents differ");
+  result.pixelCount = full.pixels().size();
+  for (std::size_t i = 0; i < result.pixelCount; ++i) {
+    const int d = largestChannelDifference(full.pixels()[i], fullReference.pixels()[i]);
+    if (d <= kChannelTolerance) {
+      ++result.withinWeightedTolerance;
+      continue;
+    }
+    const bool cameraRayDiffers =
+        largestChannelDifference(primary.pixels()[i], primaryReference.pixels()[i]) > kChannelTolerance;
+    (cameraRayDiffers ? result.primaryRay : result.reflectedOnly).add(d);
+    if (!cameraRayDiffers && d <= reflectedTolerance) ++result.withinWeightedTolerance;
+  }
   return result;
 }
 

@@ -53,6 +53,82 @@ TEST(ImageCompare, LowPsnrDisagreesEvenWhenFewPixelsDiffer) {
   EXPECT_FALSE(r.agrees());
 }
 
+// The rule at scale (docs/render-model.md section 8): `full` and `primary`
+// (maxDepth 1) frames of one scene against their references.
+struct FramesAtScale {
+  Image full = gradient({100, 100});
+  Image primary = gradient({100, 100});
+  [[nodiscard]] AgreementBreakdown against(const FramesAtScale& reference, float reflectivity = 0.5f) const {
+    return breakDownAgreement(full, reference.full, primary, reference.primary, reflectivity);
+  }
+};
+
+// Every `step`-th pixel's red channel moved by `by` (down where up would pass 255), in `image`.
+void shiftRed(Image& image, int step, int by) {
+  const auto pixels = image.pixels();
+  for (std::size_t i = 0; i < pixels.size(); i += static_cast<std::size_t>(step)) {
+    const int r = pixels[i].r;
+    pixels[i].r = static_cast<std::uint8_t>(r + by <= 255 ? r + by : r - by);
+  }
+}
+
+TEST(AgreementAtScale, ReflectedRayFlipsPassWhereSection8sRuleFails) {
+  const FramesAtScale reference;
+  FramesAtScale got;
+  shiftRed(got.full, 50, 25);  // 2 % of the pixels, 25/255, camera rays alike
+  const AgreementBreakdown b = got.against(reference);
+  EXPECT_FALSE(b.full.agrees());
+  EXPECT_EQ(b.reflectedOnly.pixels, 200u);
+  EXPECT_EQ(b.primaryRay.pixels, 0u);
+  EXPECT_EQ(b.reflectedOnly.max, 25);
+  EXPECT_EQ(b.reflectedOnly.bands[2], 200u);  // the 16-50 band
+  EXPECT_TRUE(b.agreesAtScale());
+  // With no reflection, reflected rays cannot differ: the same frames fail.
+  EXPECT_FALSE(got.against(reference, 0.0f).agreesAtScale());
+}
+
+// The defects the section 8 tests inject (ImageCompare above): 0.6 % of the
+// pixels 128/255 off, and 40 pixels inverted, in the camera rays (both
+// frames) or in the reflections only (the full frame).
+TEST(AgreementAtScale, CatchesTheDefectsSection8Catches) {
+  const FramesAtScale reference;
+  for (const bool inCameraRays : {true, false}) {
+    FramesAtScale spread;
+    FramesAtScale inverted;
+    for (Image* image : {&spread.full, &spread.primary}) {
+      if (image == &spread.full || inCameraRays) shiftRed(*image, 167, 128);
+    }
+    for (Image* image : {&inverted.full, &inverted.primary}) {
+      if (image != &inverted.full && !inCameraRays) continue;
+      for (int x = 0; x < 40; ++x) image->row(5)[x] = {static_cast<std::uint8_t>(255 - image->at(x, 5).r), 0, 0, 255};
+    }
+    EXPECT_FALSE(spread.against(reference).agreesAtScale()) << "camera rays " << inCameraRays;
+    EXPECT_FALSE(inverted.against(reference).agreesAtScale()) << "camera rays " << inCameraRays;
+  }
+}
+
+// A bounce that is slightly wrong everywhere (small differences in a third
+// of the pixels, PSNR still above 40 dB) is not a flip: the share catches it.
+TEST(AgreementAtScale, SmallDifferencesInManyReflectionsDisagree) {
+  const FramesAtScale reference;
+  FramesAtScale got;
+  shiftRed(got.full, 3, 4);
+  const AgreementBreakdown b = got.against(reference);
+  EXPECT_GE(b.full.psnrDb, 40.0);
+  EXPECT_FALSE(b.agreesAtScale());
+}
+
+// A few pixels far beyond what a reflected ray could change (2/255 + 255 x
+// reflectivity) count against the 99.5 %.
+TEST(AgreementAtScale, ReflectedDifferencesBeyondTheWeightedToleranceCount) {
+  const FramesAtScale reference;
+  FramesAtScale got;
+  shiftRed(got.full, 150, 30);  // 0.67 % of the pixels
+  EXPECT_TRUE(got.against(reference, 0.5f).agreesAtScale());
+  EXPECT_EQ(got.against(reference, 0.5f).withinWeightedTolerance, 10000u);
+  EXPECT_FALSE(got.against(reference, 0.1f).agreesAtScale());  // tolerance 2 + 25: all 0.67 % beyond it
+}
+
 TEST(ImageCompare, RejectsDifferentExtents) {
   EXPECT_THROW(compareImages(Image({2, 2}), Image({2, 3})), std::invalid_argument);
 }

@@ -9,6 +9,7 @@
 #include "render/cpu_renderers.h"
 #include "render/render_test_support.h"
 #include "render/scalar/double_reference.h"
+#include "render/scale_agreement.h"
 #include "test_support.h"
 
 namespace rt {
@@ -186,6 +187,48 @@ TEST(EveryCpuRenderer, CameraInsideASphereAgreesWithDoublePrecision) {
       const ImageAgreement a = compareImages(got, want);
       EXPECT_TRUE(a.agrees()) << nameOf(kind) << " " << nameOf(stage) << ": " << test::describe(a);
     }
+  }
+}
+
+// docs/render-model.md section 8 at scale: 100,000 spheres, each CPU
+// renderer with each --accel it accepts, against the double reference (on
+// the BVH) under the rule at scale.
+TEST(EveryCpuRenderer, AgreesWithDoublePrecisionAt100000Spheres) {
+  for (std::size_t i = 0; i < schema::kRendererDefinitions.size(); ++i) {
+    const auto kind = static_cast<RendererKind>(i);
+    if (!cpuRendererBuilt(kind)) continue;
+    for (const Accel accel : {Accel::bvh, Accel::none}) {
+      if (definitionOf(kind).ownAccel && accel != *definitionOf(kind).ownAccel) continue;
+      const auto renderer = makeCpuRenderer(kind, threads(2));
+      const AgreementBreakdown b = test::scaleAgreement(*renderer, accel);
+      EXPECT_TRUE(b.agreesAtScale()) << nameOf(kind) << " --accel " << nameOf(accel) << ": " << test::describe(b);
+    }
+  }
+}
+
+// The rule at scale still fails a renderer with a defect: the sequential
+// renderer given the scene as a bug would see it, against the true scene's
+// reference.
+TEST(RuleAtScale, CatchesDefectsInTheRenderer) {
+  struct Defect {
+    const char* name;
+    void (*apply)(Scene&);
+  };
+  const Defect defects[] = {
+      {"reflectivity 10 % low (the bounce's throughput)", [](Scene& s) { s.render.reflectivity *= 0.9f; }},
+      {"two bounces too few", [](Scene& s) { s.render.maxDepth -= 2; }},
+      {"spheres 1 % larger (the intersection)",
+       [](Scene& s) {
+         for (Sphere& sphere : s.spheres) sphere.radius *= 1.01f;
+       }},
+      {"ambient light 0.1 -> 0.11 (the shading)", [](Scene& s) { s.lightData.ambientLightColor *= 1.1f; }},
+  };
+  for (const Defect& defect : defects) {
+    Scene broken = test::scaleScene();
+    defect.apply(broken);
+    SequentialRenderer renderer;
+    const AgreementBreakdown b = test::scaleAgreement(renderer, Accel::bvh, broken);
+    EXPECT_FALSE(b.agreesAtScale()) << defect.name << ": " << test::describe(b);
   }
 }
 

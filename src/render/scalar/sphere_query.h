@@ -10,9 +10,11 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <type_traits>
 
 #include "render/accel/bvh.h"
 #include "render/render_options.h"
+#include "render/scalar/double_traversal_pad.h"
 #include "render/scalar/ray.h"
 #include "scene/scene.h"
 
@@ -86,6 +88,17 @@ inline bool boxReachable(const BvhNode& node, const Ray<Real>& ray, const Vec3<R
   return tmin <= tmax && tmax >= -pad && tmin <= best + pad;
 }
 
+// The pad of this precision's sphere test: traversalPad for float, the
+// double reference's own (double_traversal_pad.h) for double.
+template <typename Real>
+inline Real traversalPadOf(const Bvh& bvh, Real originMaxCoordinate) {
+  if constexpr (std::is_same_v<Real, double>) {
+    return doubleTraversalPad(bvh, originMaxCoordinate);
+  } else {
+    return traversalPad(bvh, static_cast<float>(originMaxCoordinate));
+  }
+}
+
 // With a BVH: the same nearest hit as brute force, the same float test per
 // sphere, spheres visited in tree order (so an exact tie is settled by the
 // index, not by the order of the visit). Near child first, a fixed stack.
@@ -93,7 +106,7 @@ template <typename Real>
 inline RaycastHit<Real> nearestHitInBvh(const Ray<Real>& ray, std::span<const Sphere> spheres, const Bvh& bvh) {
   const Vec3<Real> inverse = inverseDirection(ray.direction);
   const Vec3<Real> a = glm::abs(ray.origin);
-  const Real pad = traversalPad(bvh, static_cast<float>(std::max({a.x, a.y, a.z})));
+  const Real pad = traversalPadOf<Real>(bvh, std::max({a.x, a.y, a.z}));
   Real best = std::numeric_limits<Real>::infinity();
   int bestIndex = -1;
   std::uint32_t stack[kBvhMaxDepth + 2];
