@@ -95,6 +95,40 @@ vk::DeviceSize checkedStorageSize(const Device& device, vk::DeviceSize bytes, co
   return bytes;
 }
 
+// Lavapipe's shader compiler (gallivm) ends an invocation's loops after
+// 65535 iterations counted over all of its loops, without an error: past
+// that the image is silently cut short (docs/render-model.md section 8,
+// measured at 20,000 spheres: maxDepth 3 exact, maxDepth 4 not). Brute
+// force loops over every sphere at every bounce, so a frame whose
+// invocations would need more is refused there; a BVH walk needs a few
+// dozen iterations per ray. An estimate per invocation: the rays it may
+// trace (persistent threads take up to twice their fair share), each with
+// its bounces over the spheres, and the two-pass backward loop.
+constexpr std::uint64_t kLavapipeLoopIterations = 65535;
+
+std::uint64_t bruteForceLoopIterations(std::size_t spheres, int maxDepth, Extent extent, const RenderOptions& options) {
+  const std::uint64_t invocations = std::uint64_t{RT_PERSISTENT_WORKGROUPS} * RT_TILE_RAYS;
+  const std::uint64_t rays = rayCount(extent);
+  const std::uint64_t raysEach =
+      options.gpuSchedule == GpuSchedule::persistent ? 2 * ((rays + invocations - 1) / invocations) : 1;
+  const auto depth = static_cast<std::uint64_t>(maxDepth);
+  const std::uint64_t bounces = options.gpuPath == GpuPath::wavefront ? 1 : depth;
+  return raysEach * (bounces * (spheres + 2) + depth);
+}
+
+void refuseLoopsPastLavapipeLimit(const Device& device, const Scene& scene, Extent extent,
+                                  const RenderOptions& options) {
+  if (options.accel != Accel::none || device.info().driverName != "llvmpipe") return;
+  const std::uint64_t needed = bruteForceLoopIterations(scene.spheres.size(), scene.render.maxDepth, extent, options);
+  if (needed <= kLavapipeLoopIterations) return;
+  throw RendererUnavailable("lavapipe ends a shader invocation's loops after " +
+                            std::to_string(kLavapipeLoopIterations) + " iterations, and brute force over " +
+                            std::to_string(scene.spheres.size()) + " spheres (maxDepth " +
+                            std::to_string(scene.render.maxDepth) + ") would need about " + std::to_string(needed) +
+                            ": its image would be cut short; use --accel bvh" +
+                            (options.gpuSchedule == GpuSchedule::persistent ? " or --gpu-schedule pixel" : ""));
+}
+
 // Subgroup operations the shader's variants use: persistent threads
 // (elect, broadcast), the wavefront's queues (ballot) and the counters
 // (arithmetic), all in the compute stage.
@@ -446,6 +480,7 @@ void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions
   gpuMs_.reset();
   counters_.reset();
   requireSubgroupOperations(context_->device(), options);
+  refuseLoopsPastLavapipeLimit(context_->device(), scene, extent, options);
   scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
     return std::make_unique<SceneObjects>(*device_, scene, extent, options, presentMode_);
   });

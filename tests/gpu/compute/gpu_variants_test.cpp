@@ -12,6 +12,7 @@
 
 #include "gpu/compute/gpu_renderer.h"
 #include "gpu/gpu_test_support.h"
+#include "gpu/vulkan/device.h"
 #include "render/accel/accel_scenes.h"
 #include "render/render_test_support.h"
 #include "test_support.h"
@@ -189,6 +190,29 @@ TEST_F(GpuVariants, RefusesWavefrontBuffersPastTheDeviceLimit) {
   } catch (const RendererUnavailable& e) {
     EXPECT_NE(std::string(e.what()).find("maxStorageBufferRange"), std::string::npos) << e.what();
   }
+}
+
+// Lavapipe cuts an invocation's loops short after 65535 iterations in all,
+// silently; brute force that would need more is refused there, by name,
+// and the same frame on the BVH, or one ray per invocation, is not.
+TEST_F(GpuVariants, RefusesBruteForcePastLavapipesLoopLimit) {
+  if (context()->device().info().driverName != "llvmpipe") GTEST_SKIP() << "lavapipe's limit";
+  gpu::GPURenderer gpu(context(), PresentMode::none);
+  const Scene scene = loadNamedScene("random1000");
+  RenderOptions options = optionsForStage(Stage::optimized);
+  options.gpuSchedule = GpuSchedule::persistent;
+  try {
+    gpu.prepare(scene, {1920, 1080}, options);  // about 32 rays an invocation, 1000 spheres each bounce
+    FAIL() << "persistent brute force over 1000 spheres at 1920x1080 was prepared on lavapipe";
+  } catch (const RendererUnavailable& e) {
+    EXPECT_NE(std::string(e.what()).find("65535"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--gpu-schedule pixel"), std::string::npos) << e.what();
+  }
+  options.gpuSchedule = GpuSchedule::pixel;
+  EXPECT_NO_THROW(gpu.prepare(scene, {1920, 1080}, options));
+  options.gpuSchedule = GpuSchedule::persistent;
+  options.accel = Accel::bvh;
+  EXPECT_NO_THROW(gpu.prepare(scene, {1920, 1080}, options));
 }
 
 TEST_F(GpuVariants, ReportsItsAxesAfterPrepare) {
