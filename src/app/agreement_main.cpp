@@ -13,6 +13,7 @@
 
 #include "app/cli.h"
 #include "app/device_setup.h"
+#include "app/program_main.h"
 #include "app/renderer_factory.h"
 #include "render/scalar/double_reference.h"
 #include "scene/scene_loader.h"
@@ -99,20 +100,4 @@ int run(const rt::RunConfig& config) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  auto parsed = rt::parseCommandLine(argc, argv);
-  if (auto* exit = std::get_if<rt::CliExit>(&parsed)) {
-    std::cout << exit->output;
-    std::cerr << exit->error;
-    return exit->code;
-  }
-  try {
-    return run(std::get<rt::RunConfig>(parsed));
-  } catch (const rt::SceneError& e) {
-    std::cerr << "rt_agreement: invalid scene: " << e.what() << "\n";
-    return rt::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "rt_agreement: error: " << e.what() << "\n";
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return rt::runProgram("rt_agreement", argc, argv, run); }

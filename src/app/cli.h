@@ -13,6 +13,8 @@ struct CliExit {
   std::string error;   // for stderr
 };
 
+// A failure while running (a GPU error, validation errors, any other error).
+inline constexpr int kExitRuntimeError = 1;
 inline constexpr int kExitBadInput = 2;
 // No Vulkan loader or device where the run needs one (--gpu, --present upload, --list-devices).
 inline constexpr int kExitNoDevice = 3;

@@ -11,6 +11,7 @@
 #include "app/cli.h"
 #include "app/device_setup.h"
 #include "app/frame_loop.h"
+#include "app/program_main.h"
 #include "app/renderer_factory.h"
 #include "app/run_identity.h"
 #include "app/run_metadata.h"
@@ -26,8 +27,6 @@
 #include "scene/scene_loader.h"
 
 namespace {
-
-constexpr int kExitRuntimeError = 1;
 
 void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, const rt::Scene& scene,
                   const rt::FrameLoopResult& result, const rt::RunTimes& times,
@@ -98,7 +97,7 @@ int validationVerdict(const rt::gpu::ValidationCounter* validation) {
   const rt::gpu::ValidationCounts counts = validation->counts();
   std::cerr << "raytracer: Vulkan validation reported " << counts.errors << " error(s) and " << counts.warnings
             << " warning(s)\n";
-  return kExitRuntimeError;
+  return rt::kExitRuntimeError;
 }
 
 // Opens the device, runs the frame loop, writes the outputs. Returns the
@@ -151,32 +150,4 @@ int run(const rt::RunConfig& config) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  auto parsed = rt::parseCommandLine(argc, argv);
-  if (auto* exit = std::get_if<rt::CliExit>(&parsed)) {
-    std::cout << exit->output;
-    std::cerr << exit->error;
-    return exit->code;
-  }
-  try {
-    return run(std::get<rt::RunConfig>(parsed));
-  } catch (const rt::SceneError& e) {
-    std::cerr << "raytracer: invalid scene: " << e.what() << "\n";
-    return rt::kExitBadInput;
-  } catch (const rt::RendererUnavailable& e) {
-    std::cerr << "raytracer: " << e.what() << "\n";
-    return rt::kExitBadInput;
-  } catch (const rt::gpu::WindowUnavailable& e) {
-    std::cerr << "raytracer: no window: " << e.what() << "\n";
-    return rt::kExitNoDevice;
-  } catch (const rt::gpu::DeviceUnavailable& e) {
-    std::cerr << "raytracer: no Vulkan device: " << e.what() << "\n";
-    return rt::kExitNoDevice;
-  } catch (const rt::gpu::DeviceError& e) {
-    std::cerr << "raytracer: GPU error: " << e.what() << "\n";
-    return kExitRuntimeError;
-  } catch (const std::exception& e) {
-    std::cerr << "raytracer: error: " << e.what() << "\n";
-    return kExitRuntimeError;
-  }
-}
+int main(int argc, char** argv) { return rt::runProgram("raytracer", argc, argv, run); }
