@@ -10,6 +10,26 @@
 namespace rt {
 namespace {
 
+// The default scene's run with the sequential renderer and default options,
+// as most tests here start.
+struct SequentialRun {
+  RunConfig config;
+  Scene scene;
+  std::chrono::system_clock::time_point now = std::chrono::system_clock::now();
+  RunIdentity id;
+
+  SequentialRun()
+      : config(configOf("default")),
+        scene(loadScene(config.scenePath)),
+        id{makeRunId(now), scene.name, SequentialRenderer().info(), config.options, config.extent} {}
+
+  static RunConfig configOf(const char* sceneName) {
+    RunConfig c;
+    c.scenePath = test::scenePath(sceneName);
+    return c;
+  }
+};
+
 TEST(RunMetadata, HasEverySchemaKeyAndTheSceneHash) {
   RunConfig config;
   config.scenePath = test::scenePath("default");
@@ -29,22 +49,16 @@ TEST(RunMetadata, HasEverySchemaKeyAndTheSceneHash) {
 }
 
 TEST(RunMetadata, RecordsTheLoadAndPrepareTimes) {
-  RunConfig config;
-  config.scenePath = test::scenePath("default");
-  const Scene scene = loadScene(config.scenePath);
-  const auto now = std::chrono::system_clock::now();
-  const RunIdentity id{makeRunId(now), scene.name, SequentialRenderer().info(), config.options, config.extent};
+  const SequentialRun run;
+  const auto& [config, scene, now, id] = run;
   const nlohmann::json meta = makeRunMetadata(config, id, scene, {now, now, 12.5, 34.25});
   EXPECT_EQ(meta["scene"]["load_ms"], 12.5);
   EXPECT_EQ(meta["prepare_ms"], 34.25);
 }
 
 TEST(RunMetadata, WindowObjectIsTheRunsWindowOutcome) {
-  RunConfig config;
-  config.scenePath = test::scenePath("default");
-  const Scene scene = loadScene(config.scenePath);
-  const auto now = std::chrono::system_clock::now();
-  const RunIdentity id{makeRunId(now), scene.name, SequentialRenderer().info(), config.options, config.extent};
+  const SequentialRun run;
+  const auto& [config, scene, now, id] = run;
   EXPECT_TRUE(makeRunMetadata(config, id, scene, {now, now})["window"].is_null());
   const WindowOutcome window{.swapchain = {.surfaceFormat = "B8G8R8A8_SRGB", .imageCount = 3, .framesPresented = 7},
                              .closed = true};
@@ -58,11 +72,8 @@ TEST(RunMetadata, WindowObjectIsTheRunsWindowOutcome) {
 // Where no traversal applies the config says so as the CSV does (""), and
 // without --counters there are no totals.
 TEST(RunMetadata, TraversalAndCountersOfARendererWithout) {
-  RunConfig config;
-  config.scenePath = test::scenePath("default");
-  const Scene scene = loadScene(config.scenePath);
-  const auto now = std::chrono::system_clock::now();
-  const RunIdentity id{makeRunId(now), scene.name, SequentialRenderer().info(), config.options, config.extent};
+  const SequentialRun run;
+  const auto& [config, scene, now, id] = run;
   const nlohmann::json meta = makeRunMetadata(config, id, scene, {now, now});
   EXPECT_EQ(meta["config"]["traversal"], "");
   EXPECT_TRUE(meta["config"]["hybrid_threshold"].is_null());

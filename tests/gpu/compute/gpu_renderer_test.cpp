@@ -92,10 +92,9 @@ TEST_F(GpuAgreement, CameraInsideASphereAgreesWithDoublePrecision) {
 
 // docs/render-model.md section 8 at scale: 100,000 spheres against the
 // double reference (on the BVH), under the rule at scale. --accel bvh only:
-// lavapipe stops brute force's sphere loop once an invocation has run about
-// 65,536 iterations in all (random20000: maxDepth 3 gives --accel bvh's
-// bytes, maxDepth 4 does not; the wavefront path, a dispatch per bounce,
-// agrees), so the megakernel's brute force at 100,000 spheres is wrong there.
+// lavapipe ends an invocation's loops after 65535 iterations in all, so the
+// GPU renderer refuses brute force over 100,000 spheres there
+// (GpuVariants.RefusesBruteForcePastLavapipesLoopLimit).
 TEST_F(GpuAgreement, AgreesWithDoublePrecisionAt100000Spheres) {
   gpu::GPURenderer gpu(context(), PresentMode::upload);
   const AgreementBreakdown b = scaleAgreement(gpu, Accel::bvh);
