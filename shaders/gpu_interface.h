@@ -29,6 +29,10 @@
 #define RT_BINDING_CONTROL 11
 // --accel bvh: the leaves' spheres in leaf order (of the BVH walked).
 #define RT_BINDING_LEAF_SPHERES 12
+// The ray-tracing pipeline renderer (gpu_rt): the top-level acceleration
+// structure its ray-generation shader traces (with the spheres and the
+// output image at their slots above; it binds nothing else).
+#define RT_BINDING_TLAS 13
 
 // Specialization constants: fixed per pipeline, so the compiler removes the
 // branches of the variants that are not used (as the C++ templates do).

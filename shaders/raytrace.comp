@@ -46,22 +46,8 @@ layout(constant_id = RT_SPEC_STAGE) const int STAGE = RT_STAGE_MEGAKERNEL;
 // --counters: tally rays, visits, tests and lane slots (nearest_hit.glsl).
 layout(constant_id = RT_SPEC_COUNTERS) const bool COUNTERS = false;
 
-const float EPS = float(RT_HIT_EPSILON);
-
 // Inputs =====================================================================
-// Mirrored by rt::gpu::GPUSphere (src/gpu/compute/gpu_layout.h): std430, 32 bytes,
-// {vec3 position; float radius; vec3 color; float pad} byte for byte. Read
-// as two vec4s: the intersection loop then fetches each sphere with one
-// 16-byte load per invocation instead of four scalar ones (lavapipe
-// gathers storage-buffer loads lane by lane: random100 1.3x faster).
-struct GPUSphere {
-  vec4 positionRadius;  // xyz: position, w: radius
-  vec4 colorPad;        // rgb: color, a: padding
-};
-
-layout(std430, set = 0, binding = RT_BINDING_SPHERES) readonly buffer Spheres {
-  GPUSphere spheres[];
-};
+#include "frame_inputs.glsl"
 
 // --accel bvh, --gpu-bvh binary: rt::gpu::GpuBinaryNode (gpu_layout.h),
 // 64 bytes per inner node of rt::Bvh holding its two children's boxes, as
@@ -82,16 +68,6 @@ layout(std430, set = 0, binding = RT_BINDING_BVH_ORDER) readonly buffer BvhOrder
 layout(std430, set = 0, binding = RT_BINDING_LEAF_SPHERES) readonly buffer LeafSpheres {
   vec4 leafSpheres[];
 };
-
-layout(rgba8, set = 0, binding = RT_BINDING_OUTPUT) uniform writeonly image2D outputImage;
-
-// The push constants: the camera and the image size per frame, the scene's
-// shading parameters and sphere count. Declared from the member list that
-// also declares the C++ mirror rt::gpu::FrameConstants (gpu_interface.h).
-#define RT_GLSL_MEMBER(type, name, at) layout(offset = at) type name;
-layout(push_constant, std430) uniform FrameConstants {
-  RT_FRAME_CONSTANTS(RT_GLSL_MEMBER)
-} pc;
 
 // The wide BVH's nodes (16 uvec4s each, nearest_hit.glsl) and the scene
 // index of each leaf slot.
@@ -144,72 +120,7 @@ layout(std430, set = 0, binding = RT_BINDING_CONTROL) buffer Control {
 #include "render_model.glsl"
 #include "nearest_hit.glsl"
 
-// The two algorithms (docs/render-model.md section 5) ========================================
-
-// A single-pass bounce that hit a sphere: its light joins the colour, its
-// colour filters the throughput, and the ray reflects.
-void shadeBounce(RaycastHit hit, inout Ray ray, inout vec3 color, inout vec3 throughput) {
-  vec3 sphereColor = spheres[hit.sphere].colorPad.rgb;
-  color += throughput * localColor(hit, ray.direction, sphereColor);
-  throughput *= pc.reflectivity * sphereColor;
-  ray = reflectedRay(ray, hit);
-}
-
-vec3 traceSinglePass(Ray ray) {
-  vec3 color = vec3(0.0);
-  vec3 throughput = vec3(1.0);
-  for (int depth = 0; depth < MAX_DEPTH; ++depth) {
-    RaycastHit hit = nearestHit(ray);
-    endSearch(depth, hit.sphere >= 0);
-    if (hit.sphere < 0) {
-      color += throughput * pc.background;
-      if (BOUNCE_EXIT) break;
-      // Without the early exit the dead ray is traced again and adds nothing.
-      throughput = vec3(0.0);
-      continue;
-    }
-    shadeBounce(hit, ray, color, throughput);
-  }
-  return color;
-}
-
-// One stored segment of the forward pass: what the backward pass reads.
-struct PathSegment {
-  Ray ray;
-  RaycastHit hit;
-  vec3 sphereColor;
-};
-
-// One step of the backward pass: the light gathered behind segment `s`
-// (`acc`) seen through it.
-vec3 foldSegment(vec3 acc, PathSegment s) {
-  if (s.hit.sphere < 0) return pc.background;
-  return acc * pc.reflectivity * s.sphereColor + localColor(s.hit, s.ray.direction, s.sphereColor);
-}
-
-vec3 traceTwoPass(Ray ray) {
-  PathSegment segments[MAX_DEPTH];
-  int count = 0;
-  for (; count < MAX_DEPTH; ++count) {
-    segments[count].ray = ray;
-    segments[count].hit = nearestHit(ray);
-    endSearch(count, segments[count].hit.sphere >= 0);
-    segments[count].sphereColor = vec3(0.0);
-    if (segments[count].hit.sphere < 0) {
-      if (BOUNCE_EXIT) {
-        ++count;
-        break;
-      }
-      continue;  // a segment after a miss is a miss: the ray stays as it was
-    }
-    segments[count].sphereColor = spheres[segments[count].hit.sphere].colorPad.rgb;
-    ray = reflectedRay(ray, segments[count].hit);
-  }
-  vec3 acc = vec3(0.0);
-  for (int i = count - 1; i >= 0; --i) acc = foldSegment(acc, segments[i]);
-  return acc;
-}
-
+#include "path_tracing.glsl"
 
 // Rays and pixels ============================================================================
 // Rays are numbered in 8x8 tiles (gpu_interface.h); the image's overhang

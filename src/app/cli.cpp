@@ -69,7 +69,7 @@ struct RawOptions {
   int hybridThreshold = RenderOptions::kDefaultHybridThreshold;
   CLI::Option* hybridThresholdOption = nullptr;
   bool counters = false;
-  std::string gpuBvh, gpuSchedule, gpuPath;
+  std::string gpuBvh, gpuSchedule, gpuPath, gpuRtReorder;
   std::string lanes = "native";
   std::string partition;
   std::string csv, meta, present;
@@ -121,6 +121,7 @@ bool counts(const schema::RendererDefinition& d) {
 std::string countingFlags() { return flagsOf(counts); }
 
 std::string gpuFlag() { return std::string(definitionOf(RendererKind::gpu).flag); }
+std::string gpuRtFlag() { return std::string(definitionOf(RendererKind::gpu_rt).flag); }
 
 // The renderer options only mean something to the renderers whose schema
 // row lists them; a run that recorded a setting its renderer ignored would
@@ -226,6 +227,12 @@ void addGpuOptions(CLI::App& app, RawOptions& raw) {
                  "how the GPU renderer runs a frame, one dispatch or one per bounce depth (" + gpuFlag() + "): " +
                      joinNames(schema::kGpuPathNames, "|") + " (default " + std::string(nameOf(defaults.gpuPath)) + ")")
       ->check(CLI::IsMember(namesOf(schema::kGpuPathNames)));
+  app.add_option("--gpu-rt-reorder", raw.gpuRtReorder,
+                 "whether the ray-tracing pipeline renderer (" + gpuRtFlag() +
+                     ") reorders its invocations by hit before shading (VK_NV_ray_tracing_invocation_reorder): " +
+                     joinNames(schema::kGpuRtReorderNames, "|") + " (default " +
+                     std::string(nameOf(defaults.gpuRtReorder)) + ")")
+      ->check(CLI::IsMember(namesOf(schema::kGpuRtReorderNames)));
 }
 
 void addRendererOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
@@ -377,6 +384,14 @@ void applyGpuOptions(const RawOptions& raw, RunConfig& config) {
     config.options.gpuSchedule = *enumByName<GpuSchedule>(schema::kGpuScheduleNames, raw.gpuSchedule);
   }
   if (!raw.gpuPath.empty()) config.options.gpuPath = *enumByName<GpuPath>(schema::kGpuPathNames, raw.gpuPath);
+  if (!raw.gpuRtReorder.empty()) {
+    if (config.renderer != RendererKind::gpu_rt) {
+      throw CLI::ValidationError("--gpu-rt-reorder", "--gpu-rt-reorder applies to the ray-tracing pipeline renderer (" +
+                                                         gpuRtFlag() + ") only; renderer " +
+                                                         std::string(nameOf(config.renderer)) + " does not take it");
+    }
+    config.options.gpuRtReorder = *enumByName<GpuRtReorder>(schema::kGpuRtReorderNames, raw.gpuRtReorder);
+  }
 }
 
 void applyWindowOptions(const RawOptions& raw, RunConfig& config) {

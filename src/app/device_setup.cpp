@@ -16,11 +16,17 @@ std::string firstLine(const std::string& text) { return text.substr(0, text.find
 
 DeviceSetup setUpDevice(const RunConfig& config, std::ostream& notes) {
   // Asking for a device by name or for validation is asking for a device too.
-  const bool required = config.renderer == RendererKind::gpu || config.present == PresentMode::upload ||
-                        !config.device.empty() || config.vkValidation;
+  const bool gpuRenderer = config.renderer == RendererKind::gpu || config.renderer == RendererKind::gpu_rt;
+  const bool required =
+      gpuRenderer || config.present == PresentMode::upload || !config.device.empty() || config.vkValidation;
   if (!required && config.present == PresentMode::none) return {{PresentMode::none, nullptr}, "--present none"};
 
-  const gpu::ContextOptions options{.deviceSelector = config.device, .validation = config.vkValidation};
+  const bool rayTracing = config.renderer == RendererKind::gpu_rt;
+  const gpu::ContextOptions options{
+      .deviceSelector = config.device,
+      .validation = config.vkValidation,
+      .rayTracing = rayTracing,
+      .invocationReorder = rayTracing && config.options.gpuRtReorder == GpuRtReorder::hit};
 #if RT_WINDOW
   if (config.windowed()) {
     auto window = WindowSession::open(config, options);

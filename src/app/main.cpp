@@ -72,6 +72,7 @@ std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) 
          (id.renderer.gpuBvh ? " gpu_bvh=" + std::string(rt::nameOf(*id.renderer.gpuBvh)) : "") +
          (id.renderer.gpuSchedule ? " gpu_schedule=" + std::string(rt::nameOf(*id.renderer.gpuSchedule)) : "") +
          (id.renderer.gpuPath ? " gpu_path=" + std::string(rt::nameOf(*id.renderer.gpuPath)) : "") +
+         (id.renderer.gpuRtReorder ? " gpu_rt_reorder=" + std::string(rt::nameOf(*id.renderer.gpuRtReorder)) : "") +
          (id.options.counters ? " counters" : "") + " frames=" + std::to_string(config.warmupFrames) + "+" +
          std::to_string(config.measuredFrames) + " present=" + std::string(rt::nameOf(id.present)) +
          (id.device ? " device=" + id.device->name : "");

@@ -152,6 +152,7 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
       case Key::gpu_bvh: return r.gpuBvh ? nameOf(*r.gpuBvh) : "";
       case Key::gpu_schedule: return r.gpuSchedule ? nameOf(*r.gpuSchedule) : "";
       case Key::gpu_path: return r.gpuPath ? nameOf(*r.gpuPath) : "";
+      case Key::gpu_rt_reorder: return r.gpuRtReorder ? nameOf(*r.gpuRtReorder) : "";
       case Key::counters: return id.options.counters;
       case Key::width: return id.extent.width;
       case Key::height: return id.extent.height;
@@ -172,8 +173,9 @@ nlohmann::json accelStructureJson(const RendererInfo& renderer) {
     switch (key) {
       case Key::kind: return nameOf(a.kind);
       case Key::build_ms: return a.buildMs;
-      case Key::nodes: return a.nodes;
-      case Key::depth: return a.depth;
+      case Key::nodes: return a.nodes ? nlohmann::json(*a.nodes) : nullptr;
+      case Key::depth: return a.depth ? nlohmann::json(*a.depth) : nullptr;
+      case Key::device_bytes: return a.deviceBytes ? nlohmann::json(*a.deviceBytes) : nullptr;
     }
     unhandledKey("accel_structure");
   });

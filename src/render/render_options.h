@@ -12,6 +12,7 @@ using schema::Algorithm;
 using schema::EarlyExit;
 using schema::GpuBvh;
 using schema::GpuPath;
+using schema::GpuRtReorder;
 using schema::GpuSchedule;
 using schema::Kernel;
 using schema::Partition;
@@ -59,6 +60,9 @@ struct RenderOptions {
   GpuBvh gpuBvh = GpuBvh::binary;
   GpuSchedule gpuSchedule = GpuSchedule::pixel;
   GpuPath gpuPath = GpuPath::megakernel;
+  // The gpu_rt renderer: reorder invocations by hit before shading
+  // (VK_NV_ray_tracing_invocation_reorder); never changes the image.
+  GpuRtReorder gpuRtReorder = GpuRtReorder::none;
   // --counters: the SIMD kernel (and the GPU renderer) tallies rays, node visits, sphere tests and
   // lane occupancy per frame (LaneCounters); off, the kernel compiled without them runs.
   bool counters = false;

@@ -39,6 +39,8 @@ struct RendererInfo {
   std::optional<GpuBvh> gpuBvh{};
   std::optional<GpuSchedule> gpuSchedule{};
   std::optional<GpuPath> gpuPath{};
+  // The gpu_rt renderer's hit reorder; empty elsewhere.
+  std::optional<GpuRtReorder> gpuRtReorder{};
 };
 
 // One of the thesis' interchangeable renderers. The interface is virtual

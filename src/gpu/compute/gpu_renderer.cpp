@@ -13,7 +13,7 @@
 #include "core/profiler.h"
 #include "gpu/compute/gpu_layout.h"
 #include "gpu/compute/raytrace_pipeline.h"
-#include "gpu/present/present_image.h"
+#include "gpu/present/shader_output.h"
 #include "gpu/present/swapchain.h"
 #include "gpu/vulkan/context.h"
 #include "gpu/vulkan/gpu_profiler.h"
@@ -26,12 +26,6 @@ namespace {
 
 using PipelineStage = vk::PipelineStageFlagBits;
 using Access = vk::AccessFlagBits;
-
-// The output image's two states: written by the shader in GENERAL, read by
-// copies (present, readback) in TRANSFER_SRC_OPTIMAL.
-constexpr ImageState kShaderWrite{PipelineStage::eComputeShader, Access::eShaderWrite, vk::ImageLayout::eGeneral};
-constexpr ImageState kTransferRead{PipelineStage::eTransfer, Access::eTransferRead,
-                                   vk::ImageLayout::eTransferSrcOptimal};
 
 SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh,
                                           const WideBvh* wide) {
@@ -163,19 +157,8 @@ void dispatchBarrier(const vk::raii::CommandBuffer& cb) {
 // memory. Waits for the copy; the staging buffer goes on return.
 template <typename T>
 Buffer uploadStorage(const Device& device, CommandRunner& runner, std::span<const T> data) {
-  const std::span<const std::byte> bytes = std::as_bytes(data);
-  Buffer target(device, bytes.size(), vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
-                MemoryUse::deviceLocal);
-  const Buffer staging(device, bytes.size(), vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::upload);
-  std::memcpy(staging.mapped().data(), bytes.data(), bytes.size());
-  staging.flushHostWrites();
-  runner.run("scene upload", [&](const vk::raii::CommandBuffer& cb) {
-    cb.copyBuffer(staging.handle(), target.handle(), vk::BufferCopy{.size = bytes.size()});
-    // The data is written before any dispatch reads it.
-    bufferBarrier(cb, target.handle(), PipelineStage::eTransfer, Access::eTransferWrite, PipelineStage::eComputeShader,
-                  Access::eShaderRead);
-  });
-  return target;
+  return uploadToDevice(device, runner, std::as_bytes(data), vk::BufferUsageFlagBits::eStorageBuffer,
+                        PipelineStage::eComputeShader, Access::eShaderRead);
 }
 
 AccelStructure accelFor(const Scene& scene, const RenderOptions& options) {
@@ -319,11 +302,8 @@ struct GPURenderer::SceneObjects {
         counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d.device) : std::nullopt),
         scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d.device, s, e, o) : std::nullopt),
         initialControlWords(initialControl(s.render.maxDepth, e)),
-        output(d.device, e, vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc),
-        bindings(d.device, pipeline, sceneBuffers(), output),
-        readback(d.device, frameBytes(e), vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback) {
-    if (mode == PresentMode::upload) presentImage.emplace(d.device, d.runner, e);
-  }
+        output(d.device, d.runner, e, mode, PipelineStage::eComputeShader),
+        bindings(d.device, pipeline, sceneBuffers(), output.image()) {}
 
   const Scene& scene;
   RenderOptions options;
@@ -338,11 +318,8 @@ struct GPURenderer::SceneObjects {
   std::optional<CounterBuffers> counterBuffers;    // --counters only
   std::optional<ScheduleBuffers> scheduleBuffers;  // persistent threads or wavefronts only
   std::vector<std::uint32_t> initialControlWords;  // what the control buffer holds as a frame starts
-  DeviceImage output;
+  ShaderOutput output;
   RaytraceBindings bindings;
-  Buffer readback;
-  std::optional<PresentImage> presentImage;                    // mode upload only
-  vk::ImageLayout outputLayout = vk::ImageLayout::eUndefined;  // as the last submitted commands left it
 
   // The buffers the shader binds. The spheres stand in for those a variant
   // lacks: a descriptor must name a live buffer, and that pipeline never
@@ -431,15 +408,6 @@ struct GPURenderer::SceneObjects {
     cb.copyBuffer(counterBuffers->counters.handle(), counterBuffers->readback.handle(),
                   vk::BufferCopy{.size = kCounterBytes});
   }
-
-  // Records the output's move from the shader's writes to copies' reads, once per frame.
-  void recordOutputReadable(const vk::raii::CommandBuffer& cb) {
-    if (outputLayout == kTransferRead.layout) return;
-    if (outputLayout != kShaderWrite.layout) throw std::logic_error("GPU renderer: no frame rendered yet");
-    // The shader's writes are complete and visible before a copy reads them.
-    imageBarrier(cb, output.handle(), kShaderWrite, kTransferRead);
-    outputLayout = kTransferRead.layout;
-  }
 };
 
 GPURenderer::GPURenderer(std::shared_ptr<Context> device, PresentMode present, std::shared_ptr<Swapchain> window)
@@ -503,9 +471,7 @@ void GPURenderer::render(const CameraFrame& camera) {
       TracyVkCollect(profiler.context(), *cb);
       timer.recordReset(cb);
       s.recordFrameReset(cb);
-      // The last frame's copies out of the image finish before the shader
-      // overwrites it; from UNDEFINED, since every pixel is written anew.
-      imageBarrier(cb, s.output.handle(), {PipelineStage::eTransfer, {}, vk::ImageLayout::eUndefined}, kShaderWrite);
+      s.output.recordBeforeShaderWrites(cb);
       {
         TracyVkZone(profiler.context(), *cb, "raytrace dispatch");
         timer.recordStart(cb);
@@ -514,46 +480,13 @@ void GPURenderer::render(const CameraFrame& camera) {
       }
       s.recordCounterReadback(cb);
     });
-    s.outputLayout = kShaderWrite.layout;
     gpuMs_ = timer.readMs();
     if (s.counterBuffers) counters_ = s.counterBuffers->read();
   });
 }
 
-void GPURenderer::present() {
-  SceneObjects& s = prepared();
-  if (window_) {
-    translateVulkanErrors("present", [&] {
-      // Not waited for: the next frame's dispatch waits for this blit's reads in its barrier.
-      window_->present(s.output.handle(), s.extent,
-                       [&](const vk::raii::CommandBuffer& cb, std::uint32_t) { s.recordOutputReadable(cb); });
-    });
-    return;
-  }
-  if (!s.presentImage) return;  // mode none: the frame stays in the storage image
-  translateVulkanErrors("present", [&] {
-    device_->runner.run("present", [&](const vk::raii::CommandBuffer& cb) {
-      TracyVkZone(device_->profiler.context(), *cb, "present copy");
-      s.recordOutputReadable(cb);
-      s.presentImage->recordCopyFrom(cb, s.output.handle());
-    });
-  });
-}
+void GPURenderer::present() { prepared().output.present(device_->runner, device_->profiler, window_.get()); }
 
-void GPURenderer::readPresented(Image& target) {
-  SceneObjects& s = prepared();
-  if (target.extent() != s.extent) throw std::logic_error("readPresented: target extent differs from the frame's");
-  translateVulkanErrors("frame readback", [&] {
-    device_->runner.run("frame readback", [&](const vk::raii::CommandBuffer& cb) {
-      if (s.presentImage) {
-        s.presentImage->recordReadback(cb, s.readback.handle());
-      } else {
-        s.recordOutputReadable(cb);
-        recordImageReadback(cb, s.output.handle(), kTransferRead.layout, s.extent, s.readback.handle());
-      }
-    });
-    copyToImage(s.readback, target);
-  });
-}
+void GPURenderer::readPresented(Image& target) { prepared().output.readPresented(device_->runner, target); }
 
 }  // namespace rt::gpu

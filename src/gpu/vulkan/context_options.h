@@ -25,6 +25,13 @@ struct ContextOptions {
   // needs (from GLFW) are enabled, and the device gets VK_KHR_swapchain.
   // Empty for windowless runs, whose instance has no surface extension.
   std::vector<std::string> surfaceExtensions{};
+  // The ray-tracing pipeline renderer (gpu_rt): the device must offer
+  // VK_KHR_acceleration_structure and VK_KHR_ray_tracing_pipeline, which
+  // are enabled with buffer device addresses; invocationReorder also asks
+  // for VK_NV_ray_tracing_invocation_reorder. A device without them is
+  // refused (DeviceUnavailable), as a missing device is.
+  bool rayTracing = false;
+  bool invocationReorder = false;
   [[nodiscard]] bool presents() const { return !surfaceExtensions.empty(); }
 };
 

@@ -169,8 +169,37 @@ PhysicalDeviceChoice describe(vk::raii::PhysicalDevice physical, std::uint32_t i
   return {std::move(physical), std::move(info), family.value_or(0)};
 }
 
+// The extensions the ray-tracing pipeline renderer needs (VK_KHR_deferred_host_operations:
+// required by the acceleration structure extension), and those of them `physical` lacks.
+std::vector<const char*> rayTracingExtensions(const ContextOptions& options) {
+  std::vector<const char*> names;
+  if (!options.rayTracing) return names;
+  names = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME,
+           VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+  if (options.invocationReorder) names.push_back(VK_NV_RAY_TRACING_INVOCATION_REORDER_EXTENSION_NAME);
+  return names;
+}
+
+void requireRayTracing(const vk::raii::PhysicalDevice& physical, const DeviceInfo& described,
+                       const ContextOptions& options) {
+  const auto available = physical.enumerateDeviceExtensionProperties();
+  std::string missing;
+  for (const char* name : rayTracingExtensions(options)) {
+    if (!hasExtension(available, name)) missing += (missing.empty() ? "" : ", ") + std::string(name);
+  }
+  if (missing.empty()) return;
+  throw DeviceUnavailable("device " + std::to_string(described.index) + " (" + described.name + ", " +
+                          described.driverInfo + ") offers no " + missing +
+                          ": the ray-tracing pipeline renderer needs " +
+                          (options.invocationReorder ? "them (--gpu-rt-reorder hit needs NVIDIA's reorder extension)"
+                                                     : "them") +
+                          ". Mesa's lavapipe offers the KHR ones from Mesa 25 (Debian 13), not in Debian 12's 22.3; "
+                          "use --gpu for the compute renderer");
+}
+
 vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, std::uint32_t queueFamily,
-                                     const DeviceInfo& described, bool swapchain) {
+                                     const DeviceInfo& described, const ContextOptions& options) {
+  const bool swapchain = options.presents();
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queue{
       .queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
@@ -186,11 +215,31 @@ vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, s
     }
     extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   }
-  const vk::DeviceCreateInfo info{.queueCreateInfoCount = 1,
-                                  .pQueueCreateInfos = &queue,
-                                  .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),
-                                  .ppEnabledExtensionNames = extensions.data()};
-  return vk::raii::Device(physical, info);
+  if (options.rayTracing) {
+    requireRayTracing(physical, described, options);
+    const auto needed = rayTracingExtensions(options);
+    extensions.insert(extensions.end(), needed.begin(), needed.end());
+  }
+  vk::StructureChain<vk::DeviceCreateInfo, vk::PhysicalDeviceVulkan12Features,
+                     vk::PhysicalDeviceAccelerationStructureFeaturesKHR,
+                     vk::PhysicalDeviceRayTracingPipelineFeaturesKHR,
+                     vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV>
+      chain{vk::DeviceCreateInfo{.queueCreateInfoCount = 1,
+                                 .pQueueCreateInfos = &queue,
+                                 .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),
+                                 .ppEnabledExtensionNames = extensions.data()},
+            vk::PhysicalDeviceVulkan12Features{.bufferDeviceAddress = VK_TRUE},
+            vk::PhysicalDeviceAccelerationStructureFeaturesKHR{.accelerationStructure = VK_TRUE},
+            vk::PhysicalDeviceRayTracingPipelineFeaturesKHR{.rayTracingPipeline = VK_TRUE},
+            vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV{.rayTracingInvocationReorder = VK_TRUE}};
+  // Without ray tracing the device is created as before: no features chained.
+  if (!options.rayTracing) {
+    chain.unlink<vk::PhysicalDeviceVulkan12Features>();
+    chain.unlink<vk::PhysicalDeviceAccelerationStructureFeaturesKHR>();
+    chain.unlink<vk::PhysicalDeviceRayTracingPipelineFeaturesKHR>();
+  }
+  if (!options.invocationReorder) chain.unlink<vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV>();
+  return vk::raii::Device(physical, chain.get<vk::DeviceCreateInfo>());
 }
 
 }  // namespace
@@ -258,7 +307,7 @@ Device::Device(const ContextOptions& options) : instance_(options) {
   physical_ = std::move(chosen.physical);
   queueFamily_ = chosen.queueFamily;
   memory_ = physical_.getMemoryProperties();
-  device_ = createLogicalDevice(physical_, queueFamily_, info_, options.presents());
+  device_ = createLogicalDevice(physical_, queueFamily_, info_, options);
   queue_ = vk::raii::Queue(device_, queueFamily_, 0);
 }
 

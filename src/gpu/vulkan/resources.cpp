@@ -30,9 +30,12 @@ MemoryChoice memoryFor(MemoryUse use) {
 }
 
 vk::raii::DeviceMemory allocate(const Device& device, const vk::MemoryRequirements& requirements,
-                                std::uint32_t typeIndex) {
-  return vk::raii::DeviceMemory(
-      device.logical(), vk::MemoryAllocateInfo{.allocationSize = requirements.size, .memoryTypeIndex = typeIndex});
+                                std::uint32_t typeIndex, bool deviceAddress = false) {
+  const vk::MemoryAllocateFlagsInfo addressable{.flags = vk::MemoryAllocateFlagBits::eDeviceAddress};
+  return vk::raii::DeviceMemory(device.logical(),
+                                vk::MemoryAllocateInfo{.pNext = deviceAddress ? &addressable : nullptr,
+                                                       .allocationSize = requirements.size,
+                                                       .memoryTypeIndex = typeIndex});
 }
 
 }  // namespace
@@ -44,13 +47,32 @@ Buffer::Buffer(const Device& device, vk::DeviceSize size, vk::BufferUsageFlags u
   const vk::MemoryRequirements requirements = buffer_.getMemoryRequirements();
   const MemoryChoice choice = memoryFor(use);
   const std::uint32_t type = device.memoryTypeIndex(requirements.memoryTypeBits, choice.required, choice.preferred);
-  memory_ = allocate(device, requirements, type);
+  memory_ = allocate(device, requirements, type,
+                     static_cast<bool>(usage & vk::BufferUsageFlagBits::eShaderDeviceAddress));
   buffer_.bindMemory(*memory_, 0);
   if (use != MemoryUse::deviceLocal) {
     // Mapped once for the buffer's life; freeing the memory unmaps it.
     mapped_ = {static_cast<std::byte*>(memory_.mapMemory(0, size_)), static_cast<std::size_t>(size_)};
     coherent_ = static_cast<bool>(device.memoryTypeProperties(type) & MemoryProperty::eHostCoherent);
   }
+}
+
+vk::DeviceAddress Buffer::deviceAddress() const {
+  return device_->logical().getBufferAddress(vk::BufferDeviceAddressInfo{.buffer = *buffer_});
+}
+
+Buffer uploadToDevice(const Device& device, CommandRunner& runner, std::span<const std::byte> bytes,
+                      vk::BufferUsageFlags usage, vk::PipelineStageFlags readStage, vk::AccessFlags readAccess) {
+  Buffer target(device, bytes.size(), usage | vk::BufferUsageFlagBits::eTransferDst, MemoryUse::deviceLocal);
+  const Buffer staging(device, bytes.size(), vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::upload);
+  std::memcpy(staging.mapped().data(), bytes.data(), bytes.size());
+  staging.flushHostWrites();
+  runner.run("upload", [&](const vk::raii::CommandBuffer& cb) {
+    cb.copyBuffer(staging.handle(), target.handle(), vk::BufferCopy{.size = bytes.size()});
+    bufferBarrier(cb, target.handle(), vk::PipelineStageFlagBits::eTransfer, vk::AccessFlagBits::eTransferWrite,
+                  readStage, readAccess);
+  });
+  return target;
 }
 
 void Buffer::flushHostWrites() const {

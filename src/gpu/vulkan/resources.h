@@ -18,11 +18,15 @@ enum class MemoryUse {
 };
 
 // A buffer with its own memory, mapped for its whole life when the host uses it.
+// With eShaderDeviceAddress usage its memory is allocated for device
+// addresses (acceleration structures and their inputs, shader binding tables).
 class Buffer {
  public:
   Buffer(const Device& device, vk::DeviceSize size, vk::BufferUsageFlags usage, MemoryUse use);
 
   [[nodiscard]] vk::Buffer handle() const { return *buffer_; }
+  // Only for buffers made with eShaderDeviceAddress usage.
+  [[nodiscard]] vk::DeviceAddress deviceAddress() const;
   [[nodiscard]] vk::DeviceSize size() const { return size_; }
   // The mapping; empty for deviceLocal buffers.
   [[nodiscard]] std::span<std::byte> mapped() const { return mapped_; }
@@ -111,6 +115,12 @@ class CommandRunner {
   vk::raii::CommandBuffer commandBuffer_ = nullptr;
   vk::raii::Fence fence_;
 };
+
+// `bytes` in a new device-local buffer of `usage` (plus eTransferDst), through
+// a staging buffer; a barrier makes the copy visible to `readStage`'s
+// `readAccess`. Waits for the copy; the staging buffer goes on return.
+Buffer uploadToDevice(const Device& device, CommandRunner& runner, std::span<const std::byte> bytes,
+                      vk::BufferUsageFlags usage, vk::PipelineStageFlags readStage, vk::AccessFlags readAccess);
 
 // Runs `body`, turning a Vulkan failure into a DeviceError that says what was being done.
 template <typename Body>

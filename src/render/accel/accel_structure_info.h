@@ -3,6 +3,8 @@
 // built: beside the BVH that fills it (render/accel/bvh.h), so the BVH needs
 // nothing of the Renderer interface (render/renderer.h), which reports it.
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 
 #include "render/render_options.h"
 
@@ -12,8 +14,12 @@ namespace rt {
 struct AccelStructureInfo {
   Accel kind = Accel::bvh;
   double buildMs = 0.0;
-  std::size_t nodes = 0;
-  int depth = 0;
+  // Unknown for a driver's structure (the gpu_rt renderer's), whose layout
+  // the driver keeps to itself.
+  std::optional<std::size_t> nodes;
+  std::optional<int> depth;
+  // Device memory it takes; empty for structures in host memory.
+  std::optional<std::uint64_t> deviceBytes;
 };
 
 }  // namespace rt

@@ -45,11 +45,17 @@ struct Bvh {
 // sphere whose float intersection (docs/render-model.md section 3) reports a
 // hit is culled by its box: the float test may report a hit a little
 // outside the exact sphere, most near tangency, and its distance may be off
-// by as much. Grows with the ray origin's largest |coordinate|.
+// by as much. Grows with the ray origin's largest |coordinate|. The scene
+// enters through its largest radius and largest |coordinate| of a sphere's
+// bounds (Bvh::maxRadius, maxCoordinate).
+inline float traversalPad(float maxRadius, float maxCoordinate, float originMaxCoordinate) {
+  const float scale = originMaxCoordinate + maxCoordinate;
+  return float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * std::sqrt(maxRadius * scale) +
+         float(RT_BVH_PAD_RADIUS) * maxRadius + float(RT_BVH_PAD_MIN);
+}
+
 inline float traversalPad(const Bvh& bvh, float originMaxCoordinate) {
-  const float scale = originMaxCoordinate + bvh.maxCoordinate;
-  return float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * std::sqrt(bvh.maxRadius * scale) +
-         float(RT_BVH_PAD_RADIUS) * bvh.maxRadius + float(RT_BVH_PAD_MIN);
+  return traversalPad(bvh.maxRadius, bvh.maxCoordinate, originMaxCoordinate);
 }
 
 // Deepest tree a traversal stack must hold (the build stops splitting there).
@@ -79,7 +85,7 @@ class AccelStructure {
   [[nodiscard]] const Bvh* bvh() const { return bvh_ ? &*bvh_ : nullptr; }
   [[nodiscard]] std::optional<AccelStructureInfo> info() const {
     if (!bvh_) return std::nullopt;
-    return AccelStructureInfo{Accel::bvh, bvh_->buildMs, bvh_->nodes.size(), bvh_->depth};
+    return AccelStructureInfo{Accel::bvh, bvh_->buildMs, bvh_->nodes.size(), bvh_->depth, std::nullopt};
   }
 
  private:

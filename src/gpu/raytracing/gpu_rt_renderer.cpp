@@ -1,0 +1,145 @@
+#include "gpu/raytracing/gpu_rt_renderer.h"
+
+#include <span>
+#include <stdexcept>
+
+#include "core/profiler.h"
+#include "gpu/compute/gpu_layout.h"
+#include "gpu/present/shader_output.h"
+#include "gpu/present/swapchain.h"
+#include "gpu/raytracing/ray_tracing_pipeline.h"
+#include "gpu/raytracing/sphere_acceleration.h"
+#include "gpu/vulkan/context.h"
+#include "gpu/vulkan/gpu_profiler.h"
+#include "gpu/vulkan/timestamps.h"
+
+namespace rt::gpu {
+namespace {
+
+RayTracingVariant variantFor(const Scene& scene, const RenderOptions& options) {
+  return {.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
+          .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
+          .maxDepth = scene.render.maxDepth,
+          .reorder = options.gpuRtReorder == GpuRtReorder::hit};
+}
+
+Buffer uploadSpheres(const Device& device, CommandRunner& runner, std::span<const Sphere> spheres) {
+  const std::vector<GPUSphere> data = toGpuSpheres(spheres);
+  return uploadToDevice(device, runner, std::as_bytes(std::span(data)), vk::BufferUsageFlagBits::eStorageBuffer,
+                        vk::PipelineStageFlagBits::eRayTracingShaderKHR, vk::AccessFlagBits::eShaderRead);
+}
+
+}  // namespace
+
+// What lives as long as the renderer: the command buffer every phase
+// records into, the timestamp queries, Tracy's GPU context.
+struct GpuRtRenderer::DeviceObjects {
+  explicit DeviceObjects(const Device& d) : device(d) {}
+  const Device& device;
+  CommandRunner runner{device};
+  DispatchTimer timer{device};
+  GpuProfiler profiler{device, runner};
+};
+
+// What prepare() makes for one scene, size and variant, in creation order.
+struct GpuRtRenderer::SceneObjects {
+  SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& o, PresentMode mode)
+      : scene(s),
+        options(o),
+        shading(shadingParamsOf(s)),
+        extent(e),
+        structure(d.device, d.runner, s),
+        pipeline(d.device, d.runner, variantFor(s, o)),
+        spheres(uploadSpheres(d.device, d.runner, s.spheres)),
+        output(d.device, d.runner, e, mode, vk::PipelineStageFlagBits::eRayTracingShaderKHR),
+        bindings(d.device, pipeline, structure.topLevel(), spheres.handle(), output.image()) {}
+
+  const Scene& scene;
+  RenderOptions options;
+  ShadingParams shading;
+  Extent extent;
+  SphereAccelerationStructure structure;
+  RayTracingPipeline pipeline;
+  Buffer spheres;
+  ShaderOutput output;
+  RayTracingBindings bindings;
+};
+
+GpuRtRenderer::GpuRtRenderer(std::shared_ptr<Context> device, PresentMode present, std::shared_ptr<Swapchain> window)
+    : context_(std::move(device)), presentMode_(present), window_(std::move(window)) {
+  if (!context_) throw std::invalid_argument("the ray-tracing pipeline renderer needs a Vulkan device");
+  if (presentMode_ == PresentMode::window && !window_)
+    throw std::invalid_argument("present mode 'window' needs a swapchain");
+  device_ = translateVulkanErrors("ray-tracing pipeline renderer set-up",
+                                  [&] { return std::make_unique<DeviceObjects>(context_->device()); });
+}
+
+GpuRtRenderer::~GpuRtRenderer() {
+  if (!window_) return;  // every other phase waited for its own work
+  try {
+    context_->device().logical().waitIdle();
+  } catch (const vk::SystemError&) {
+    // A lost device runs nothing that could still read the image.
+  }
+}
+
+RendererInfo GpuRtRenderer::info() const {
+  RendererInfo info;
+  info.kind = RendererKind::gpu_rt;
+  info.threads = 0;  // the device schedules the work
+  info.lanes = 0;
+  if (!scene_) return info;
+  info.accelStructure = AccelStructureInfo{.kind = Accel::bvh,
+                                           .buildMs = scene_->structure.buildMs(),
+                                           .nodes = std::nullopt,
+                                           .depth = std::nullopt,
+                                           .deviceBytes = scene_->structure.deviceBytes()};
+  info.gpuRtReorder = scene_->options.gpuRtReorder;
+  return info;
+}
+
+void GpuRtRenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
+  if (scene.spheres.empty()) throw std::invalid_argument("the ray-tracing pipeline renderer needs at least one sphere");
+  if (window_) {
+    translateVulkanErrors("ray-tracing pipeline renderer prepare", [&] { context_->device().logical().waitIdle(); });
+  }
+  scene_.reset();  // the old objects go before new ones take their memory
+  gpuMs_.reset();
+  scene_ = translateVulkanErrors("ray-tracing pipeline renderer prepare", [&] {
+    return std::make_unique<SceneObjects>(*device_, scene, extent, options, presentMode_);
+  });
+}
+
+GpuRtRenderer::SceneObjects& GpuRtRenderer::prepared() {
+  if (!scene_) throw std::logic_error("ray-tracing pipeline renderer: prepare() was not called");
+  return *scene_;
+}
+
+void GpuRtRenderer::render(const CameraFrame& camera) {
+  SceneObjects& s = prepared();
+  const FrameConstants constants =
+      makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
+  const DispatchTimer& timer = device_->timer;
+  [[maybe_unused]] const GpuProfiler& profiler = device_->profiler;
+  translateVulkanErrors("render", [&] {
+    device_->runner.run("render", [&](const vk::raii::CommandBuffer& cb) {
+      // Last frame's GPU zones have completed (its submit was waited for).
+      TracyVkCollect(profiler.context(), *cb);
+      timer.recordReset(cb);
+      s.output.recordBeforeShaderWrites(cb);
+      {
+        TracyVkZone(profiler.context(), *cb, "trace rays");
+        timer.recordStart(cb);
+        s.pipeline.recordTrace(cb, s.bindings.set(), constants, s.extent);
+        timer.recordEnd(cb);
+      }
+    });
+    gpuMs_ = timer.readMs();
+  });
+}
+
+void GpuRtRenderer::present() { prepared().output.present(device_->runner, device_->profiler, window_.get()); }
+
+void GpuRtRenderer::readPresented(Image& target) { prepared().output.readPresented(device_->runner, target); }
+
+}  // namespace rt::gpu

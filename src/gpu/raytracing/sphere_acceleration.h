@@ -1,0 +1,61 @@
+#pragma once
+// The driver's acceleration structure over a scene's spheres, for the
+// ray-tracing pipeline renderer: a bottom-level structure of one box per
+// sphere (box i is sphere i, so the intersection shader's gl_PrimitiveID is
+// the sphere's index) and a top-level one holding it once, untransformed.
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "gpu/vulkan/resources.h"
+#include "scene/scene.h"
+
+namespace rt::gpu {
+
+// A sphere's box as the driver reads it (VkAabbPositionsKHR's layout).
+struct SphereBox {
+  float lo[3];
+  float hi[3];
+};
+static_assert(sizeof(SphereBox) == sizeof(VkAabbPositionsKHR));
+
+// The boxes of `spheres`, each widened by traversalPad (render/accel/bvh.h)
+// as the compute renderer's BVH boxes are, so that the driver's own box test
+// cannot cull a sphere the model's float test would hit. `originMaxCoordinate`
+// bounds |coordinate| of every ray origin (the camera on its orbit, and the
+// spheres' surfaces, where reflected rays start).
+std::vector<SphereBox> paddedSphereBoxes(std::span<const Sphere> spheres, float originMaxCoordinate);
+
+// The largest |coordinate| the camera of `scene` takes on its orbit (or at
+// rest), as an origin bound for paddedSphereBoxes.
+float cameraMaxCoordinate(const CameraSpec& camera);
+
+// One level's structure and the buffer that holds it.
+struct AccelerationLevel {
+  Buffer storage;
+  vk::raii::AccelerationStructureKHR handle;
+};
+
+class SphereAccelerationStructure {
+ public:
+  // Builds both levels on the device and waits for the builds; the boxes
+  // and scratch memory go on return.
+  SphereAccelerationStructure(const Device& device, CommandRunner& runner, const Scene& scene);
+
+  [[nodiscard]] vk::AccelerationStructureKHR topLevel() const { return *top_.handle; }
+  // Host time of the build (boxes, uploads, both builds and the wait).
+  [[nodiscard]] double buildMs() const { return buildMs_; }
+  // Device memory of both structures as the driver sized them.
+  [[nodiscard]] std::uint64_t deviceBytes() const { return bottom_.storage.size() + top_.storage.size(); }
+
+ private:
+  SphereAccelerationStructure(const Device& device, CommandRunner& runner, const Scene& scene,
+                              std::chrono::steady_clock::time_point start);
+
+  AccelerationLevel bottom_;  // declared first: the top level refers to it
+  AccelerationLevel top_;
+  double buildMs_;
+};
+
+}  // namespace rt::gpu
