@@ -280,11 +280,7 @@ def gpu_axes_of(renderer: str, accel: str) -> list[str]:
     """The GPU axes a configuration has: the GPU renderer's schedule and path,
     and its BVH with accel bvh only; gpu_rt's reorder; none for the other
     renderers."""
-    return [
-        axis
-        for axis in GPU_AXES
-        if GPU_AXIS_RENDERER[axis] == renderer and (axis != GPU_BVH or accel == BVH)
-    ]
+    return [axis for axis in GPU_AXES if GPU_AXIS_RENDERER[axis] == renderer and (axis != GPU_BVH or accel == BVH)]
 
 
 def where_gpu_axis_applies(axis: str) -> str:

@@ -414,7 +414,9 @@ def _check_gpu_keys(values: dict, renderers: dict, path: Path) -> None:
         if chosen == [default]:
             continue
         if renderer not in renderers:
-            raise ProfileError(f"{path}: {key}: applies to the {renderer} renderer only, which this profile does not run")
+            raise ProfileError(
+                f"{path}: {key}: applies to the {renderer} renderer only, which this profile does not run"
+            )
         if axis == names.GPU_BVH and names.BVH not in values["accels"]:
             raise ProfileError(
                 f"{path}: {key}: applies to the {renderer} renderer with accel {names.BVH} only, "

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from rtbench import archive, atomic, budget, load, metrics, names, noise, plots, stats, tables, thesis
+from rtbench import archive, atomic, budget, configurations, load, metrics, names, noise, plots, stats, tables, thesis
 from rtbench.run_status import NOT_RUN, RunStatus
 
 TABLES_DIR = "tables"
@@ -500,8 +500,9 @@ def _figure(figures: dict[str, list[Path]], key: str, caption: str, out: Path) -
 
 def _unfinished_section(run_dirs: list[Path], manifests: list[dict | None]) -> str:
     """Runs that did not produce data: configurations an unfinished run has
-    not run yet (one line each), renderers this binary does not have (one
-    line each), failures (one line per run)."""
+    not run yet (one line each), renderers (or a probed option of one) whose
+    probe failed (one line each, with the probe's reason), failures (one line
+    per run)."""
     rows = [r for m in manifests if m for r in m.get("runs", []) if r.get("status") not in (RunStatus.OK, *NOT_RUN)]
     missing = [(d, c, reps) for d, m in zip(run_dirs, manifests) if m for c, reps in load.missing_runs(m).items()]
     if not rows and not missing:
@@ -512,18 +513,62 @@ def _unfinished_section(run_dirs: list[Path], manifests: list[dict | None]) -> s
             f"| {config} {' '.join(f'r{r}' for r in reps)} | missing (the run was stopped) | | "
             f"`scripts/bench --resume {run_dir}` runs it |"
         )
-    unavailable: dict[str, list[dict]] = {}
     for r in rows:
         if r.get("status") == RunStatus.UNAVAILABLE:
-            unavailable.setdefault(r.get("renderer", "?"), []).append(r)
             continue
         lines.append(
             f"| {r.get('config')} r{r.get('repetition')} | {r.get('status')} | "
             f"{'' if r.get('exit_code') is None else r.get('exit_code')} | {_reason(r)} |"
         )
-    for renderer, runs in unavailable.items():
-        lines.append(f"| every {renderer} run ({len(runs)}) | unavailable in this binary | | {_reason(runs[0])} |")
-    return "\n".join(lines) + "\n"
+    skipped = [_skipped_line(what, runs) for what, runs in _skipped_groups(manifests).items()]
+    lines += skipped
+    return "\n".join(lines) + "\n" + (SKIPPED_NOTE if skipped else "")
+
+
+SKIPPED_NOTE = """
+Skipped: before its runs the bench tries each renderer on one 4x4 frame
+(gpu_rt also with each `--gpu-rt-reorder` value its runs use); where that
+probe fails, the runs it stands for are not started, and the reason above is
+what the probe said: a binary built without the renderer, no usable Vulkan
+device, or a device without the extensions the renderer needs (gpu_rt:
+VK_KHR_acceleration_structure and VK_KHR_ray_tracing_pipeline; its hit
+reordering: VK_NV_ray_tracing_invocation_reorder, which only NVIDIA's
+devices offer). Such a renderer is missing from every table of this report.
+"""
+
+
+def _skipped_groups(manifests: list[dict | None]) -> dict[tuple[str, str, str], list[dict]]:
+    """The unavailable runs by (renderer, the probed options of their
+    configuration: configurations.probe_args, the probe's reason); the label
+    of a group says 'every RENDERER run' where it holds all of the renderer's
+    runs, else names the options."""
+    groups: dict[tuple[str, str, str], list[dict]] = {}
+    totals: dict[str, int] = {}
+    for m in manifests:
+        if not m:
+            continue
+        configs = {c.get("id"): c for c in m.get("configs", [])}
+        for r in m.get("runs", []):
+            renderer = r.get("renderer", "?")
+            totals[renderer] = totals.get(renderer, 0) + 1
+            if r.get("status") != RunStatus.UNAVAILABLE:
+                continue
+            options = " ".join(configurations.probe_args(configs.get(r.get("config")) or {}))
+            groups.setdefault((renderer, options, _reason(r)), []).append(r)
+    by_renderer: dict[str, int] = {}
+    for (renderer, _, _), runs in groups.items():
+        by_renderer[renderer] = by_renderer.get(renderer, 0) + len(runs)
+    merged: dict[tuple[str, str, str], list[dict]] = {}
+    for (renderer, options, reason), runs in groups.items():
+        whole = by_renderer[renderer] == totals[renderer]
+        merged.setdefault((renderer, "" if whole else options, reason), []).extend(runs)
+    return merged
+
+
+def _skipped_line(what: tuple[str, str, str], runs: list[dict]) -> str:
+    renderer, options, reason = what
+    which = f"every {renderer} run" + (f" with `{options}`" if options else "")
+    return f"| {which} ({len(runs)}) | skipped: its probe failed | | {reason} |"
 
 
 def _reason(run: dict) -> str:
