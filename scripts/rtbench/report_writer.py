@@ -393,10 +393,13 @@ def _cost_section(by_slug: dict[str, tables.Table], figures: dict[str, list[Path
 
 
 def _gpu_variants_section(by_slug: dict[str, tables.Table]) -> str:
-    """The GPU renderer's variants side by side, where the run has more than the default one."""
+    """The GPU renderer's variants side by side, where the run has more than
+    the default one, and gpu_rt beside them where it ran."""
     if "gpu-variants" not in by_slug:
         return ""
-    return "\n".join([f"## {GPU_VARIANTS_TITLE}\n", GPU_VARIANTS_TEXT, tables.to_markdown(by_slug["gpu-variants"])])
+    table = by_slug["gpu-variants"]
+    text = GPU_VARIANTS_TEXT + (GPU_RT_TEXT if "renderer" in table.headers else "")
+    return "\n".join([f"## {GPU_VARIANTS_TITLE}\n", text, tables.to_markdown(table)])
 
 
 GPU_VARIANTS_TITLE = "GPU traversal variants"
@@ -409,6 +412,15 @@ live rays), compared by their device time (gpu_ms), not render_ms: the
 host's time around a submit and a wait is mostly not the tracing at these
 frame times. Descriptions: schema/rt_schema.json's gpu_bvhs, gpu_schedules,
 gpu_paths.
+"""
+GPU_RT_TEXT = """
+Beside them the gpu_rt renderer: the Vulkan ray-tracing pipeline
+(VK_KHR_ray_tracing_pipeline) tracing the same rays through the driver's own
+acceleration structure (on NVIDIA's devices walked by the RT cores), the
+sphere test in its intersection shader; with reorder `hit` the invocations
+are reordered by the sphere they hit before shading
+(VK_NV_ray_tracing_invocation_reorder). Its × gpu column compares it with the
+gpu renderer's default variant on its BVH at the same stage, scene and size.
 """
 
 
@@ -583,6 +595,8 @@ def how_to_read(summary: pd.DataFrame) -> str:
         extra.append(TRAVERSAL_NOTE)
     if metrics.has_gpu_variants(summary):
         extra.append(GPU_VARIANTS_NOTE)
+    if (summary[names.RENDERER] == names.GPU_RT_RENDERER).any():
+        extra.append(GPU_RT_NOTE)
     if metrics.MRAYS_PER_S in summary.columns:
         extra.append(COUNTERS_NOTE)
         if (summary[metrics.MRAYS_TIME] == names.GPU_MS).any():
@@ -601,6 +615,11 @@ GPU_VARIANTS_NOTE = """- The accel column names the GPU renderer's variants wher
   `wavefront` one dispatch per bounce depth (`none persistent wavefront`,
   `bvh wide persistent`, ...). Tables 1-4 and the comparisons with the
   thesis show the default variant; the GPU section compares them all.
+"""
+GPU_RT_NOTE = """- gpu_rt (the ray-tracing pipeline) always walks the driver's own structure:
+  its accel is `bvh`, and `bvh hit-reorder` where it reordered its hits
+  before shading. Like the gpu renderer's, its render_ms is host time
+  around a submit and a wait; the GPU section compares the device times.
 """
 GPU_COUNTERS_NOTE = """- The gpu renderer's **Mrays/s** divides by gpu_ms, the device time of the
   frame's dispatches, instead of render_ms (the host's time around them).
