@@ -306,11 +306,6 @@ def gpu_tag(gpu_bvh="", gpu_schedule="", gpu_path="", gpu_rt_reorder="") -> list
     ]
 
 
-def reports_gpu_ms(renderer: str) -> bool:
-    """Whether a renderer times its frames on the device (the gpu_ms column)."""
-    return renderer in GPU_MS_RENDERERS
-
-
 def traversal_tag(traversal: str, hybrid_threshold=None) -> list[str]:
     """[traversal] where it is not packets (which labels leave unsaid, as
     before the traversal axis), with the hybrid threshold where there is one:
