@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -566,7 +567,7 @@ def _skipped_groups(manifests: list[dict | None]) -> dict[tuple[str, str, str], 
             if r.get("status") != RunStatus.UNAVAILABLE:
                 continue
             options = " ".join(configurations.probe_args(configs.get(r.get("config")) or {}))
-            groups.setdefault((renderer, options, _reason(r)), []).append(r)
+            groups.setdefault((renderer, options, _probe_reason(r)), []).append(r)
     by_renderer: dict[str, int] = {}
     for (renderer, _, _), runs in groups.items():
         by_renderer[renderer] = by_renderer.get(renderer, 0) + len(runs)
@@ -585,6 +586,24 @@ def _skipped_line(what: tuple[str, str, str], runs: list[dict]) -> str:
 
 def _reason(run: dict) -> str:
     return " ".join((run.get("stderr_tail") or "").split())[-200:].replace("|", "\\|")
+
+
+# The longest probe reason a line of the table shows.
+PROBE_REASON_CHARS = 300
+
+
+def _probe_reason(run: dict) -> str:
+    """What a failed probe said: its exit status and the last line of its
+    output, the error itself (a binary that does not know the flag prints
+    its usage before it; the tail of that would hide the error's start)."""
+    text = (run.get("stderr_tail") or "").strip()
+    exit_status = re.match(r"exit -?\d+: ", text)
+    prefix = exit_status.group(0) if exit_status else ""
+    lines = [line.strip() for line in text[len(prefix) :].splitlines() if line.strip()]
+    reason = prefix + (lines[-1] if lines else "")
+    if len(reason) > PROBE_REASON_CHARS:
+        reason = reason[: PROBE_REASON_CHARS - 1] + "…"
+    return reason.replace("|", "\\|")
 
 
 def how_to_read(summary: pd.DataFrame) -> str:
