@@ -193,19 +193,30 @@ def _clock(seconds: float) -> str:
 
 
 def mark_unavailable(manifest: manifests.Manifest, binary: Path, cwd: Path, out) -> None:
-    """Probes each renderer once; the runs of one the binary cannot run are
-    marked unavailable with its reason instead of failing one by one."""
-    first_scene = {}
+    """Probes each renderer once, and once more per value of an option its
+    runs pass that a device may lack (configurations.probe_args: gpu_rt's
+    --gpu-rt-reorder hit needs an extension of its own); the runs of a
+    renderer, or of such a value, that the binary or the device cannot run
+    are marked unavailable with the probe's reason instead of failing one by
+    one."""
+    probes: dict[tuple[str, tuple[str, ...]], str] = {}  # (renderer, options) -> the scene to probe on
+    probe_of: dict[str, tuple[str, tuple[str, ...]]] = {}  # configuration id -> its probe
     for c in manifest.configs:
-        first_scene.setdefault(c["renderer"], c["scene_path"])
-    for renderer, scene in first_scene.items():
-        reason = runner.probe_renderer(binary, renderer, scene, cwd)
+        key = (c["renderer"], configurations.probe_args(c))
+        probes.setdefault(key, c["scene_path"])
+        probe_of[c["id"]] = key
+    failed = {}
+    for (renderer, args), scene in probes.items():
+        reason = runner.probe_renderer(binary, renderer, scene, cwd, args=args)
         if reason is None:
             continue
-        print(f"bench: skipping {renderer}: {reason.splitlines()[-1] if reason else ''}", file=out)
-        for r in manifest.runs:
-            if r.renderer == renderer:
-                r.status, r.stderr_tail = RunStatus.UNAVAILABLE, reason
+        failed[(renderer, args)] = reason
+        what = " ".join([renderer, *args])
+        print(f"bench: skipping {what}: {reason.splitlines()[-1] if reason else ''}", file=out)
+    for r in manifest.runs:
+        reason = failed.get(probe_of.get(r.config, (r.renderer, ())))
+        if reason is not None:
+            r.status, r.stderr_tail = RunStatus.UNAVAILABLE, reason
 
 
 def machine_warnings() -> list[str]:

@@ -3,7 +3,7 @@ raytracer command line, and the order their repetitions run in.
 
 Pure functions: the matrix of scenes x stages x accels x renderers x each
 renderer's axes (x traversals and hybrid thresholds where the SIMD kernel
-walks the BVH, x the GPU renderer's variants), the profile's [[overrides]]
+walks the BVH, x the GPU renderers' variants), the profile's [[overrides]]
 applied, and the schedule (round-robin, shuffle or blocked). A generated
 scene keeps its stand-in path under profiles.GENERATED_SCENES until the
 bench runner writes it into the run directory (place_generated_scenes).
@@ -33,7 +33,16 @@ from rtbench.profiles import (
 ACCEL_FLAG = "--accel"
 TRAVERSAL_FLAG = "--traversal"
 HYBRID_THRESHOLD_FLAG = "--hybrid-threshold"
-GPU_FLAGS = {names.GPU_BVH: "--gpu-bvh", names.GPU_SCHEDULE: "--gpu-schedule", names.GPU_PATH: "--gpu-path"}
+GPU_FLAGS = {
+    names.GPU_BVH: "--gpu-bvh",
+    names.GPU_SCHEDULE: "--gpu-schedule",
+    names.GPU_PATH: "--gpu-path",
+    names.GPU_RT_REORDER: "--gpu-rt-reorder",
+}
+# The GPU axes whose values a device may lack while it runs the renderer:
+# hit reordering needs VK_NV_ray_tracing_invocation_reorder, which only some
+# devices offer, so the bench probes each of its values (probe_args).
+PROBED_AXES = (names.GPU_RT_REORDER,)
 COUNTERS_FLAG = "--counters"
 # Every axis and the raytracer option it sets: the renderer options of the
 # schema (a renderer takes those its renderers[].options lists), then RUN_AXES.
@@ -58,16 +67,17 @@ class Config:
     # "" where none applies (names.takes_traversal); None: the kernel's default threshold.
     traversal: str = ""
     hybrid_threshold: int | None = None
-    # The GPU renderer's variants, "" where none applies (names.gpu_axes_of).
+    # The GPU renderers' variants, "" where none applies (names.gpu_axes_of).
     gpu_bvh: str = ""
     gpu_schedule: str = ""
     gpu_path: str = ""
+    gpu_rt_reorder: str = ""
     counters: bool = False
 
     @property
     def gpu_axes(self) -> dict[str, str]:
         """The configuration's GPU variants by column (names.GPU_AXES), "" where none applies."""
-        return dict(zip(names.GPU_AXES, (self.gpu_bvh, self.gpu_schedule, self.gpu_path)))
+        return dict(zip(names.GPU_AXES, (self.gpu_bvh, self.gpu_schedule, self.gpu_path, self.gpu_rt_reorder)))
 
     @property
     def id(self) -> str:
@@ -81,7 +91,7 @@ class Config:
             self.variant.label,
             *accel,
             *names.traversal_tag(self.traversal, self.hybrid_threshold),
-            *names.gpu_tag(self.gpu_bvh, self.gpu_schedule, self.gpu_path),
+            *names.gpu_tag(*self.gpu_axes.values()),
             *(f"{axis}{value}" for axis, value in self.axes),
         ]
         return re.sub(r"[^A-Za-z0-9_.-]+", "_", "-".join(parts))
@@ -188,7 +198,7 @@ def expand(
         ids = set()  # of this scene, stage, accel and renderer
         walks = traversals(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
         gpu = gpu_variants(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
-        for (traversal, threshold), (gpu_bvh, gpu_schedule, gpu_path), combo in itertools.product(
+        for (traversal, threshold), gpu_values, combo in itertools.product(
             walks, gpu, itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes))
         ):
             config = Config(
@@ -205,9 +215,7 @@ def expand(
                 accel=names.OWN_ACCEL.get(renderer, accel),
                 traversal=traversal,
                 hybrid_threshold=threshold,
-                gpu_bvh=gpu_bvh,
-                gpu_schedule=gpu_schedule,
-                gpu_path=gpu_path,
+                **dict(zip(names.GPU_AXES, gpu_values)),
                 counters=profile.counters and names.counts_lanes(renderer),
             )
             config = apply_overrides(sized(config), profile.overrides, dict(zip(axes, (w for w, _ in combo))))
@@ -236,15 +244,27 @@ def traversals(profile: Profile, renderer: str, accel: str) -> list[tuple[str, i
     return [(t, h) for t in profile.traversals for h in (thresholds if t == names.HYBRID else (None,))]
 
 
-def gpu_variants(profile: Profile, renderer: str, accel: str) -> list[tuple[str, str, str]]:
-    """(gpu_bvh, gpu_schedule, gpu_path) of each configuration a renderer runs
-    at an accel: the product of the profile's gpu_bvhs (accel bvh only),
-    gpu_schedules and gpu_paths for the GPU renderer (names.gpu_axes_of),
-    else one configuration without them."""
+def gpu_variants(profile: Profile, renderer: str, accel: str) -> list[tuple[str, ...]]:
+    """The GPU axes' values (names.GPU_AXES: gpu_bvh, gpu_schedule, gpu_path,
+    gpu_rt_reorder) of each configuration a renderer runs at an accel: the
+    product of the profile's gpu_bvhs (accel bvh only), gpu_schedules and
+    gpu_paths for the GPU renderer, of its gpu_rt_reorders for gpu_rt
+    (names.gpu_axes_of), else one configuration without them."""
     has = names.gpu_axes_of(renderer, accel)
-    chosen = {names.GPU_BVH: profile.gpu_bvhs, names.GPU_SCHEDULE: profile.gpu_schedules}
-    chosen[names.GPU_PATH] = profile.gpu_paths
+    chosen = {axis: profile.gpu_axis_values(key) for key, axis in GPU_KEYS.items()}
     return list(itertools.product(*(chosen[axis] if axis in has else ("",) for axis in names.GPU_AXES)))
+
+
+def probe_args(config: dict) -> tuple[str, ...]:
+    """The options of a configuration (as Config.describe gives it, the
+    manifest's form) that the probe of its renderer must also pass: the
+    values of the PROBED_AXES it has, so that a device which runs the
+    renderer but lacks what one value needs is found before the runs."""
+    args: list[str] = []
+    for axis in PROBED_AXES:
+        if config.get(axis):
+            args += [GPU_FLAGS[axis], config[axis]]
+    return tuple(args)
 
 
 def sized(config: Config) -> Config:

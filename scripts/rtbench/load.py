@@ -152,11 +152,11 @@ def _check_traversals(path: Path, columns: dict[str, list]) -> None:
 def _check_gpu_axes(path: Path, columns: dict[str, list]) -> None:
     """A GPU variant of the schema (or none), and only where the configuration
     has that axis (names.gpu_axes_of: the GPU renderer, its BVH with accel
-    bvh only); a CSV may leave an axis empty where it has it (written before
-    the axis: the loader fills in the default)."""
+    bvh only; gpu_rt's reorder); a CSV may leave an axis empty where it has
+    it (written before the axis: the loader fills in the default)."""
     for axis, (members, _) in names.GPU_AXIS_VALUES.items():
         _check_members(path, axis, columns[axis], ["", *members])
-        where = f"the {names.GPU_RENDERER} renderer" + (f" with accel {names.BVH}" if axis == names.GPU_BVH else "")
+        where = names.where_gpu_axis_applies(axis)
         for lineno, (value, renderer, accel) in enumerate(
             zip(columns[axis], columns[names.RENDERER], columns[names.ACCEL]), start=2
         ):
@@ -256,7 +256,8 @@ def _gpu_axis(frames: pd.DataFrame, axis: str) -> list[str]:
     """One GPU axis' column; where a CSV leaves it empty (or lacks it) for a
     configuration that has the axis (names.gpu_axes_of), its default: the
     only variant before the GPU axes (binary BVH, one invocation per pixel,
-    one dispatch per frame), so runs before and after them compare."""
+    one dispatch per frame; gpu_rt: no reorder), so runs before and after
+    them compare."""
     default = names.GPU_AXIS_VALUES[axis][1]
     return [
         v or (default if axis in names.gpu_axes_of(r, a) else "")

@@ -391,34 +391,66 @@ def _share(part: float, whole: float) -> float:
     return part / whole if whole > 0 else math.nan
 
 
-# --- the GPU renderer's variants (gpu_bvh, gpu_schedule, gpu_path) ----------------------
+# --- the GPU renderers' variants (gpu_bvh, gpu_schedule, gpu_path; gpu_rt_reorder) -------
 
 GPU_MS_MEDIAN = "gpu_ms_median"
 GPU_MS_CI_LOW = "gpu_ms_ci_low"
 GPU_MS_CI_HIGH = "gpu_ms_ci_high"
 # The default variant's median gpu_ms over this one's: > 1, this variant is faster.
 SPEEDUP_OVER_DEFAULT = "speedup_over_default"
+# gpu_rt only: the compute gpu renderer's median gpu_ms in its default variant
+# on its BVH (binary, pixel, megakernel) over this one's, at the same scene,
+# stage, size, device and build: > 1, the ray-tracing pipeline is faster.
+SPEEDUP_OVER_GPU = "speedup_over_gpu"
+# What makes a gpu_rt configuration and the gpu's comparable (SPEEDUP_OVER_GPU).
+SAME_WORK_KEYS = [names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT, names.DEVICE, names.BUILD_TYPE]
 
 
 def has_gpu_variants(frames: pd.DataFrame) -> bool:
-    """Whether a GPU configuration of the run ran a variant other than the default (names.gpu_tag)."""
-    gpu = frames[frames[names.RENDERER] == names.GPU_RENDERER]
+    """Whether a GPU configuration of the run ran a variant other than the
+    default (names.gpu_tag), of the gpu renderer or of gpu_rt."""
+    gpu = frames[frames[names.RENDERER].isin(names.GPU_MS_RENDERERS)]
     return any(names.gpu_tag(*values) for values in zip(*(gpu[axis] for axis in names.GPU_AXES)))
 
 
+def has_gpu_rt(frames: pd.DataFrame) -> bool:
+    """Whether the gpu_rt renderer measured gpu_ms in the run."""
+    rt = frames[frames[names.RENDERER] == names.GPU_RT_RENDERER]
+    return bool(rt[names.GPU_MS].notna().any())
+
+
+def has_gpu_ms_table(frames: pd.DataFrame) -> bool:
+    """Whether the run has device times to set side by side: variants of a
+    GPU renderer besides the default, or the gpu_rt renderer (beside the
+    compute renderer it is the point of the comparison)."""
+    return has_gpu_variants(frames) or has_gpu_rt(frames)
+
+
 def gpu_variants(frames: pd.DataFrame) -> pd.DataFrame:
-    """Per configuration of the GPU renderer that measured gpu_ms in its
+    """Per configuration of a renderer that times its frames on the device
+    (names.GPU_MS_RENDERERS: gpu and gpu_rt) and measured gpu_ms in its
     measured frames: their count, the median gpu_ms (the device time of the
-    frame's dispatches: one, or a wavefront frame's all) with its bootstrap
-    CI, and its speedup over the default variant (binary BVH, one invocation
-    per pixel, one dispatch) of the same configuration otherwise; NaN where
-    that did not run. Empty unless the run has a variant besides the default
-    (has_gpu_variants). Sorted as the summary."""
-    columns = [*names.CONFIG_KEYS, "n", GPU_MS_MEDIAN, GPU_MS_CI_LOW, GPU_MS_CI_HIGH, SPEEDUP_OVER_DEFAULT]
-    if not has_gpu_variants(frames):
+    frame's dispatches or ray traces: one, or a wavefront frame's all) with
+    its bootstrap CI, and its speedup over the default variant of the same
+    configuration otherwise (gpu: binary BVH, one invocation per pixel, one
+    dispatch; gpu_rt: no reorder); NaN where that did not run. gpu_rt rows
+    also get their speedup over the gpu renderer's default variant on its BVH
+    (SPEEDUP_OVER_GPU; NaN on the gpu's rows). Empty unless the run has a
+    variant besides the default or gpu_rt (has_gpu_ms_table). Sorted as the
+    summary: gpu_rt beside gpu in each scene."""
+    columns = [
+        *names.CONFIG_KEYS,
+        "n",
+        GPU_MS_MEDIAN,
+        GPU_MS_CI_LOW,
+        GPU_MS_CI_HIGH,
+        SPEEDUP_OVER_DEFAULT,
+        SPEEDUP_OVER_GPU,
+    ]
+    if not has_gpu_ms_table(frames):
         return pd.DataFrame(columns=columns)
     measured = stats.measured(frames)
-    gpu = measured[(measured[names.RENDERER] == names.GPU_RENDERER) & measured[names.GPU_MS].notna()]
+    gpu = measured[measured[names.RENDERER].isin(names.GPU_MS_RENDERERS) & measured[names.GPU_MS].notna()]
     rows = []
     for key, group in gpu.groupby(names.CONFIG_KEYS, sort=False, dropna=False):
         summary = stats.summarize(group[names.GPU_MS].to_numpy())
@@ -444,4 +476,23 @@ def gpu_variants(frames: pd.DataFrame) -> pd.DataFrame:
         return medians.get((tuple(str(row[k]) for k in others), default), math.nan)
 
     table[SPEEDUP_OVER_DEFAULT] = [speedup(default_median(r), r[GPU_MS_MEDIAN]) for _, r in table.iterrows()]
+    table[SPEEDUP_OVER_GPU] = _speedup_over_gpu(table)
     return stats.sort_configs(table) if rows else table
+
+
+def _speedup_over_gpu(table: pd.DataFrame) -> list[float]:
+    """SPEEDUP_OVER_GPU of each row of gpu_variants' table."""
+    compute_default = tuple(names.GPU_AXIS_VALUES[axis][1] for axis in names.gpu_axes_of(names.GPU_RENDERER, names.BVH))
+    baseline = {
+        tuple(str(r[k]) for k in SAME_WORK_KEYS): r[GPU_MS_MEDIAN]
+        for _, r in table.iterrows()
+        if r[names.RENDERER] == names.GPU_RENDERER
+        and r[names.ACCEL] == names.BVH
+        and tuple(r[axis] for axis in names.gpu_axes_of(names.GPU_RENDERER, names.BVH)) == compute_default
+    }
+    return [
+        speedup(baseline.get(tuple(str(r[k]) for k in SAME_WORK_KEYS), math.nan), r[GPU_MS_MEDIAN])
+        if r[names.RENDERER] == names.GPU_RT_RENDERER
+        else math.nan
+        for _, r in table.iterrows()
+    ]

@@ -54,7 +54,11 @@ HYBRID_THRESHOLD = _column("hybrid_threshold")
 GPU_BVH = _column("gpu_bvh")
 GPU_SCHEDULE = _column("gpu_schedule")
 GPU_PATH = _column("gpu_path")
-GPU_AXES = [GPU_BVH, GPU_SCHEDULE, GPU_PATH]
+# The ray-tracing-pipeline renderer's (gpu_rt) one variant: whether it
+# reorders hits before shading (the schema's gpu_rt_reorders). It is a GPU
+# axis like the three above, of another renderer (GPU_AXIS_RENDERER).
+GPU_RT_REORDER = _column("gpu_rt_reorder")
+GPU_AXES = [GPU_BVH, GPU_SCHEDULE, GPU_PATH, GPU_RT_REORDER]
 WIDTH = _column("width")
 HEIGHT = _column("height")
 FRAME = _column("frame")
@@ -148,6 +152,7 @@ CONFIG_KEYS = [
     GPU_BVH,
     GPU_SCHEDULE,
     GPU_PATH,
+    GPU_RT_REORDER,
     THREADS,
     LANES,
     SIMD_TARGET,
@@ -188,6 +193,7 @@ TRAVERSALS: list[str] = [t["name"] for t in schema.schema()["traversals"]]
 GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"]]
 GPU_SCHEDULES: list[str] = [s["name"] for s in schema.schema()["gpu_schedules"]]
 GPU_PATHS: list[str] = [p["name"] for p in schema.schema()["gpu_paths"]]
+GPU_RT_REORDERS: list[str] = [r["name"] for r in schema.schema()["gpu_rt_reorders"]]
 CSV_COLUMNS: list[str] = schema.frame_csv_columns()
 COLUMN_TYPES: dict[str, str] = {c["name"]: c["type"] for c in schema.schema()["frame_csv"]}
 SCHEMA_VERSION: int = schema.schema()["version"]
@@ -214,11 +220,26 @@ GPU_RENDERER = _member("gpu", "renderers", RENDERERS)
 BINARY = _member("binary", "gpu_bvhs", GPU_BVHS)
 PIXEL = _member("pixel", "gpu_schedules", GPU_SCHEDULES)
 MEGAKERNEL = _member("megakernel", "gpu_paths", GPU_PATHS)
+# The ray-tracing-pipeline renderer (--gpu-rt): the driver's own acceleration
+# structure, hits shaded where they were traced unless told to reorder them.
+GPU_RT_RENDERER = _member("gpu_rt", "renderers", RENDERERS)
+NO_REORDER = _member("none", "gpu_rt_reorders", GPU_RT_REORDERS)
+# The renderers on a Vulkan device that time their frames' work on the device
+# (the gpu_ms column): the compute renderer and the ray-tracing pipeline.
+GPU_MS_RENDERERS: list[str] = [GPU_RENDERER, GPU_RT_RENDERER]
 # Each GPU axis: (its values in schema order, its default).
 GPU_AXIS_VALUES: dict[str, tuple[list[str], str]] = {
     GPU_BVH: (GPU_BVHS, BINARY),
     GPU_SCHEDULE: (GPU_SCHEDULES, PIXEL),
     GPU_PATH: (GPU_PATHS, MEGAKERNEL),
+    GPU_RT_REORDER: (GPU_RT_REORDERS, NO_REORDER),
+}
+# The renderer each GPU axis belongs to; the others leave its column empty.
+GPU_AXIS_RENDERER: dict[str, str] = {
+    GPU_BVH: GPU_RENDERER,
+    GPU_SCHEDULE: GPU_RENDERER,
+    GPU_PATH: GPU_RENDERER,
+    GPU_RT_REORDER: GPU_RT_RENDERER,
 }
 
 
@@ -257,19 +278,32 @@ def takes_traversal(renderer: str, accel: str) -> bool:
 
 def gpu_axes_of(renderer: str, accel: str) -> list[str]:
     """The GPU axes a configuration has: the GPU renderer's schedule and path,
-    and its BVH with accel bvh only; none for the other renderers."""
-    if renderer != GPU_RENDERER:
-        return []
-    return [axis for axis in GPU_AXES if axis != GPU_BVH or accel == BVH]
+    and its BVH with accel bvh only; gpu_rt's reorder; none for the other
+    renderers."""
+    return [axis for axis in GPU_AXES if GPU_AXIS_RENDERER[axis] == renderer and (axis != GPU_BVH or accel == BVH)]
 
 
-def gpu_tag(gpu_bvh="", gpu_schedule="", gpu_path="") -> list[str]:
+def where_gpu_axis_applies(axis: str) -> str:
+    """Which configurations have a GPU axis, in words for error messages."""
+    return f"the {GPU_AXIS_RENDERER[axis]} renderer" + (f" with accel {BVH}" if axis == GPU_BVH else "")
+
+
+# How a label shows a GPU axis' value that is not the default: the compute
+# renderer's values name their axis already (wide, persistent, wavefront);
+# a bare "hit" would not, so the reorder says what it reorders.
+GPU_TAG_FORMATS: dict[str, str] = {GPU_RT_REORDER: "{}-reorder"}
+
+
+def gpu_tag(gpu_bvh="", gpu_schedule="", gpu_path="", gpu_rt_reorder="") -> list[str]:
     """The GPU variants that are not the defaults (which labels leave unsaid,
     as before the GPU axes), in axis order: [], ["wide"], ["persistent",
-    "wavefront"]. The schema's names of the three axes are distinct, so each
-    tag says its axis."""
-    values = dict(zip(GPU_AXES, (gpu_bvh, gpu_schedule, gpu_path)))
-    return [v for axis, v in values.items() if isinstance(v, str) and v and v != GPU_AXIS_VALUES[axis][1]]
+    "wavefront"], ["hit-reorder"]. Each tag says its axis."""
+    values = dict(zip(GPU_AXES, (gpu_bvh, gpu_schedule, gpu_path, gpu_rt_reorder)))
+    return [
+        GPU_TAG_FORMATS.get(axis, "{}").format(v)
+        for axis, v in values.items()
+        if isinstance(v, str) and v and v != GPU_AXIS_VALUES[axis][1]
+    ]
 
 
 def traversal_tag(traversal: str, hybrid_threshold=None) -> list[str]:

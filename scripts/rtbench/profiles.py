@@ -6,7 +6,7 @@ A profile names scenes, stages (or explicit algorithm / early-exit sets),
 accels (how a ray finds its nearest sphere: the schema's accels),
 traversals (how the SIMD kernel walks the BVH: the schema's traversals),
 the GPU renderer's variants (gpu_bvhs, gpu_schedules, gpu_paths: the
-schema's lists of them) and whether the counting renderers count their lane
+schema's lists of them), the gpu_rt renderer's (gpu_rt_reorders) and whether the counting renderers count their lane
 work (counters), renderers with
 their own axes (the renderer options the schema gives each, of threads,
 lanes, grain and partition; and device, present), the image
@@ -94,8 +94,14 @@ class Profile:
     gpu_bvhs: tuple[str, ...] = (names.BINARY,)
     gpu_schedules: tuple[str, ...] = (names.PIXEL,)
     gpu_paths: tuple[str, ...] = (names.MEGAKERNEL,)
+    # The gpu_rt renderer's hit reordering; by default none, as it shades.
+    gpu_rt_reorders: tuple[str, ...] = (names.NO_REORDER,)
     counters: bool = False
     raw: dict = field(default_factory=dict, compare=False)
+
+    def gpu_axis_values(self, key: str) -> tuple[str, ...]:
+        """The values a GPU key (GPU_KEYS: gpu_bvhs, ..., gpu_rt_reorders) names."""
+        return getattr(self, key)
 
 
 # --- reading -----------------------------------------------------------------
@@ -159,6 +165,7 @@ def parse_profile(raw: dict, path: Path) -> Profile:
         gpu_bvhs=tuple(values["gpu_bvhs"]),
         gpu_schedules=tuple(values["gpu_schedules"]),
         gpu_paths=tuple(values["gpu_paths"]),
+        gpu_rt_reorders=tuple(values["gpu_rt_reorders"]),
         counters=values["counters"],
     )
 
@@ -198,8 +205,13 @@ KINDS = {  # kind -> (description, test)
     "stage": ("a stage name or a table {algorithm = ..., early_exits = [...]}", _plain(str, dict)),
 }
 
-# The profile keys of the GPU renderer's variants -> the CSV column (names.GPU_AXES) each sets.
-GPU_KEYS = {"gpu_bvhs": names.GPU_BVH, "gpu_schedules": names.GPU_SCHEDULE, "gpu_paths": names.GPU_PATH}
+# The profile keys of the GPU renderers' variants -> the CSV column (names.GPU_AXES) each sets.
+GPU_KEYS = {
+    "gpu_bvhs": names.GPU_BVH,
+    "gpu_schedules": names.GPU_SCHEDULE,
+    "gpu_paths": names.GPU_PATH,
+    "gpu_rt_reorders": names.GPU_RT_REORDER,
+}
 
 TOP_RULES = {
     "description": Rule("str"),
@@ -214,6 +226,8 @@ TOP_RULES = {
     "gpu_bvhs": Rule("str", [names.BINARY], shape="list", choices=tuple(names.GPU_BVHS)),
     "gpu_schedules": Rule("str", [names.PIXEL], shape="list", choices=tuple(names.GPU_SCHEDULES)),
     "gpu_paths": Rule("str", [names.MEGAKERNEL], shape="list", choices=tuple(names.GPU_PATHS)),
+    # The gpu_rt renderer's variant: --gpu-rt-reorder.
+    "gpu_rt_reorders": Rule("str", [names.NO_REORDER], shape="list", choices=tuple(names.GPU_RT_REORDERS)),
     "counters": Rule("bool", False),
     "width": Rule("int", 800, minimum=1),
     "height": Rule("int", 600, minimum=1),
@@ -388,22 +402,24 @@ def _check_traversal_keys(values: dict, renderers: dict, path: Path) -> None:
 
 
 def _check_gpu_keys(values: dict, renderers: dict, path: Path) -> None:
-    """gpu_bvhs, gpu_schedules and gpu_paths name each variant once and,
-    where they ask for more than the default, reach a configuration: the GPU
-    renderer (with accel bvh for gpu_bvhs)."""
+    """gpu_bvhs, gpu_schedules, gpu_paths and gpu_rt_reorders name each
+    variant once and, where they ask for more than the default, reach a
+    configuration: the renderer of the axis (names.GPU_AXIS_RENDERER: gpu, or
+    gpu_rt for gpu_rt_reorders), with accel bvh for gpu_bvhs."""
     for key, axis in GPU_KEYS.items():
         chosen, default = values[key], names.GPU_AXIS_VALUES[axis][1]
+        renderer = names.GPU_AXIS_RENDERER[axis]
         if len(set(chosen)) != len(chosen):
             raise ProfileError(f"{path}: {key} names a value twice: {chosen!r}")
         if chosen == [default]:
             continue
-        if names.GPU_RENDERER not in renderers:
+        if renderer not in renderers:
             raise ProfileError(
-                f"{path}: {key}: applies to the {names.GPU_RENDERER} renderer only, which this profile does not run"
+                f"{path}: {key}: applies to the {renderer} renderer only, which this profile does not run"
             )
         if axis == names.GPU_BVH and names.BVH not in values["accels"]:
             raise ProfileError(
-                f"{path}: {key}: applies to the {names.GPU_RENDERER} renderer with accel {names.BVH} only, "
+                f"{path}: {key}: applies to the {renderer} renderer with accel {names.BVH} only, "
                 f"and this profile has no accel {names.BVH}"
             )
 

@@ -25,13 +25,14 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import pandas as pd
 
-from rtbench import archive, atomic, budget, load, metrics, names, noise, plots, stats, tables, thesis
+from rtbench import archive, atomic, budget, configurations, load, metrics, names, noise, plots, stats, tables, thesis
 from rtbench.run_status import NOT_RUN, RunStatus
 
 TABLES_DIR = "tables"
@@ -393,10 +394,13 @@ def _cost_section(by_slug: dict[str, tables.Table], figures: dict[str, list[Path
 
 
 def _gpu_variants_section(by_slug: dict[str, tables.Table]) -> str:
-    """The GPU renderer's variants side by side, where the run has more than the default one."""
+    """The GPU renderer's variants side by side, where the run has more than
+    the default one, and gpu_rt beside them where it ran."""
     if "gpu-variants" not in by_slug:
         return ""
-    return "\n".join([f"## {GPU_VARIANTS_TITLE}\n", GPU_VARIANTS_TEXT, tables.to_markdown(by_slug["gpu-variants"])])
+    table = by_slug["gpu-variants"]
+    text = GPU_VARIANTS_TEXT + (GPU_RT_TEXT if "renderer" in table.headers else "")
+    return "\n".join([f"## {GPU_VARIANTS_TITLE}\n", text, tables.to_markdown(table)])
 
 
 GPU_VARIANTS_TITLE = "GPU traversal variants"
@@ -409,6 +413,15 @@ live rays), compared by their device time (gpu_ms), not render_ms: the
 host's time around a submit and a wait is mostly not the tracing at these
 frame times. Descriptions: schema/rt_schema.json's gpu_bvhs, gpu_schedules,
 gpu_paths.
+"""
+GPU_RT_TEXT = """
+Beside them the gpu_rt renderer: the Vulkan ray-tracing pipeline
+(VK_KHR_ray_tracing_pipeline) tracing the same rays through the driver's own
+acceleration structure (on NVIDIA's devices walked by the RT cores), the
+sphere test in its intersection shader; with reorder `hit` the invocations
+are reordered by the sphere they hit before shading
+(VK_NV_ray_tracing_invocation_reorder). Its × gpu column compares it with the
+gpu renderer's default variant on its BVH at the same stage, scene and size.
 """
 
 
@@ -500,8 +513,9 @@ def _figure(figures: dict[str, list[Path]], key: str, caption: str, out: Path) -
 
 def _unfinished_section(run_dirs: list[Path], manifests: list[dict | None]) -> str:
     """Runs that did not produce data: configurations an unfinished run has
-    not run yet (one line each), renderers this binary does not have (one
-    line each), failures (one line per run)."""
+    not run yet (one line each), renderers (or a probed option of one) whose
+    probe failed (one line each, with the probe's reason), failures (one line
+    per run)."""
     rows = [r for m in manifests if m for r in m.get("runs", []) if r.get("status") not in (RunStatus.OK, *NOT_RUN)]
     missing = [(d, c, reps) for d, m in zip(run_dirs, manifests) if m for c, reps in load.missing_runs(m).items()]
     if not rows and not missing:
@@ -512,22 +526,84 @@ def _unfinished_section(run_dirs: list[Path], manifests: list[dict | None]) -> s
             f"| {config} {' '.join(f'r{r}' for r in reps)} | missing (the run was stopped) | | "
             f"`scripts/bench --resume {run_dir}` runs it |"
         )
-    unavailable: dict[str, list[dict]] = {}
     for r in rows:
         if r.get("status") == RunStatus.UNAVAILABLE:
-            unavailable.setdefault(r.get("renderer", "?"), []).append(r)
             continue
         lines.append(
             f"| {r.get('config')} r{r.get('repetition')} | {r.get('status')} | "
             f"{'' if r.get('exit_code') is None else r.get('exit_code')} | {_reason(r)} |"
         )
-    for renderer, runs in unavailable.items():
-        lines.append(f"| every {renderer} run ({len(runs)}) | unavailable in this binary | | {_reason(runs[0])} |")
-    return "\n".join(lines) + "\n"
+    skipped = [_skipped_line(what, runs) for what, runs in _skipped_groups(manifests).items()]
+    lines += skipped
+    return "\n".join(lines) + "\n" + (SKIPPED_NOTE if skipped else "")
+
+
+SKIPPED_NOTE = """
+Skipped: before its runs the bench tries each renderer on one 4x4 frame
+(gpu_rt also with each `--gpu-rt-reorder` value its runs use); where that
+probe fails, the runs it stands for are not started, and the reason above is
+what the probe said: a binary built without the renderer, no usable Vulkan
+device, or a device without the extensions the renderer needs (gpu_rt:
+VK_KHR_acceleration_structure and VK_KHR_ray_tracing_pipeline; its hit
+reordering: VK_NV_ray_tracing_invocation_reorder, which only NVIDIA's
+devices offer). Such a renderer is missing from every table of this report.
+"""
+
+
+def _skipped_groups(manifests: list[dict | None]) -> dict[tuple[str, str, str], list[dict]]:
+    """The unavailable runs by (renderer, the probed options of their
+    configuration: configurations.probe_args, the probe's reason); the label
+    of a group says 'every RENDERER run' where it holds all of the renderer's
+    runs, else names the options."""
+    groups: dict[tuple[str, str, str], list[dict]] = {}
+    totals: dict[str, int] = {}
+    for m in manifests:
+        if not m:
+            continue
+        configs = {c.get("id"): c for c in m.get("configs", [])}
+        for r in m.get("runs", []):
+            renderer = r.get("renderer", "?")
+            totals[renderer] = totals.get(renderer, 0) + 1
+            if r.get("status") != RunStatus.UNAVAILABLE:
+                continue
+            options = " ".join(configurations.probe_args(configs.get(r.get("config")) or {}))
+            groups.setdefault((renderer, options, _probe_reason(r)), []).append(r)
+    by_renderer: dict[str, int] = {}
+    for (renderer, _, _), runs in groups.items():
+        by_renderer[renderer] = by_renderer.get(renderer, 0) + len(runs)
+    merged: dict[tuple[str, str, str], list[dict]] = {}
+    for (renderer, options, reason), runs in groups.items():
+        whole = by_renderer[renderer] == totals[renderer]
+        merged.setdefault((renderer, "" if whole else options, reason), []).extend(runs)
+    return merged
+
+
+def _skipped_line(what: tuple[str, str, str], runs: list[dict]) -> str:
+    renderer, options, reason = what
+    which = f"every {renderer} run" + (f" with `{options}`" if options else "")
+    return f"| {which} ({len(runs)}) | skipped: its probe failed | | {reason} |"
 
 
 def _reason(run: dict) -> str:
     return " ".join((run.get("stderr_tail") or "").split())[-200:].replace("|", "\\|")
+
+
+# The longest probe reason a line of the table shows.
+PROBE_REASON_CHARS = 300
+
+
+def _probe_reason(run: dict) -> str:
+    """What a failed probe said: its exit status and the last line of its
+    output, the error itself (a binary that does not know the flag prints
+    its usage before it; the tail of that would hide the error's start)."""
+    text = (run.get("stderr_tail") or "").strip()
+    exit_status = re.match(r"exit -?\d+: ", text)
+    prefix = exit_status.group(0) if exit_status else ""
+    lines = [line.strip() for line in text[len(prefix) :].splitlines() if line.strip()]
+    reason = prefix + (lines[-1] if lines else "")
+    if len(reason) > PROBE_REASON_CHARS:
+        reason = reason[: PROBE_REASON_CHARS - 1] + "…"
+    return reason.replace("|", "\\|")
 
 
 def how_to_read(summary: pd.DataFrame) -> str:
@@ -538,6 +614,8 @@ def how_to_read(summary: pd.DataFrame) -> str:
         extra.append(TRAVERSAL_NOTE)
     if metrics.has_gpu_variants(summary):
         extra.append(GPU_VARIANTS_NOTE)
+    if (summary[names.RENDERER] == names.GPU_RT_RENDERER).any():
+        extra.append(GPU_RT_NOTE)
     if metrics.MRAYS_PER_S in summary.columns:
         extra.append(COUNTERS_NOTE)
         if (summary[metrics.MRAYS_TIME] == names.GPU_MS).any():
@@ -556,6 +634,11 @@ GPU_VARIANTS_NOTE = """- The accel column names the GPU renderer's variants wher
   `wavefront` one dispatch per bounce depth (`none persistent wavefront`,
   `bvh wide persistent`, ...). Tables 1-4 and the comparisons with the
   thesis show the default variant; the GPU section compares them all.
+"""
+GPU_RT_NOTE = """- gpu_rt (the ray-tracing pipeline) always walks the driver's own structure:
+  its accel is `bvh`, and `bvh hit-reorder` where it reordered its hits
+  before shading. Like the gpu renderer's, its render_ms is host time
+  around a submit and a wait; the GPU section compares the device times.
 """
 GPU_COUNTERS_NOTE = """- The gpu renderer's **Mrays/s** divides by gpu_ms, the device time of the
   frame's dispatches, instead of render_ms (the host's time around them).

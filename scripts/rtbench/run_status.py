@@ -20,7 +20,8 @@ class RunStatus(StrEnum):
     PENDING = "pending"  # planned, not started yet
     OK = "ok"  # exited 0 and left its CSV and metadata sidecar
     FAILED = "failed"  # a non-zero exit, a timeout, or an exit 0 without its outputs
-    UNAVAILABLE = "unavailable"  # never started: this binary cannot run its renderer (the probe failed)
+    # never started: the probe failed, the binary or the device cannot run its renderer (or an option of it)
+    UNAVAILABLE = "unavailable"
     INTERRUPTED = "interrupted"  # running when SIGINT or SIGTERM came; its outputs discarded
 
 

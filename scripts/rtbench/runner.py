@@ -30,13 +30,19 @@ class Interrupted(KeyboardInterrupt):
         self.signum = signum
 
 
-def probe_renderer(binary: Path, renderer: str, scene_path: str, cwd: Path, timeout: float = 120) -> str | None:
+def probe_renderer(
+    binary: Path, renderer: str, scene_path: str, cwd: Path, timeout: float = 120, args: tuple[str, ...] = ()
+) -> str | None:
     """None if the binary can run `renderer` at all (a 4x4 frame), else why not
-    (e.g. 'not built' in this build, or no Vulkan device)."""
+    (e.g. 'not built' in this build, no Vulkan device, or a device without the
+    extensions the renderer needs). `args`: options of the runs to probe with
+    it, where a device may run the renderer but not them
+    (configurations.probe_args: gpu_rt's --gpu-rt-reorder hit)."""
     argv = [
         str(binary),
         names.RENDERER_FLAGS[renderer],
         scene_path,
+        *args,
         "--width",
         "4",
         "--height",

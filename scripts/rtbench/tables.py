@@ -608,8 +608,13 @@ GPU_OCCUPANCY_NOTE = (
 
 
 def gpu_variants(variants: pd.DataFrame) -> Table:
-    """The GPU renderer's variants (metrics.gpu_variants): median gpu_ms of
-    each and its speedup over the default variant of the same configuration."""
+    """The GPU renderers' variants (metrics.gpu_variants): median gpu_ms of
+    each and its speedup over the default variant of the same configuration.
+    Where gpu_rt ran, its rows stand beside the gpu renderer's, with the
+    renderer and reorder columns and gpu_rt's speedup over the gpu renderer."""
+    with_rt = bool((variants[names.RENDERER] == names.GPU_RT_RENDERER).any())
+    compute_axes = [axis for axis in names.GPU_AXES if names.GPU_AXIS_RENDERER[axis] == names.GPU_RENDERER]
+    axes = names.GPU_AXES if with_rt else compute_axes
     rows = []
     for r in variants.itertuples(index=False):
         d = r._asdict()
@@ -617,32 +622,65 @@ def gpu_variants(variants: pd.DataFrame) -> Table:
             [
                 d[names.STAGE],
                 d[names.SCENE],
+                *([d[names.RENDERER]] if with_rt else []),
                 d[names.ACCEL],
                 f"{d[names.WIDTH]}x{d[names.HEIGHT]}",
-                *(d[axis] or MISSING for axis in names.GPU_AXES),
+                *(d[axis] or MISSING for axis in axes),
                 fmt_int(d["n"]),
                 fmt_ms(d[metrics.GPU_MS_MEDIAN]),
                 f"[{fmt_ms(d[metrics.GPU_MS_CI_LOW])}, {fmt_ms(d[metrics.GPU_MS_CI_HIGH])}]",
                 fmt_fixed(d[metrics.SPEEDUP_OVER_DEFAULT], 2),
+                *([fmt_fixed(d[metrics.SPEEDUP_OVER_GPU], 2)] if with_rt else []),
             ]
         )
-    default = " / ".join(default for _, default in names.GPU_AXIS_VALUES.values())
+    default = " / ".join(names.GPU_AXIS_VALUES[axis][1] for axis in compute_axes)
     devices = sorted({d for d in variants[names.DEVICE] if d})
+    notes = [
+        "gpu_ms = median device time of the frame's render dispatches (GPU timestamps; a wavefront frame's "
+        "dispatches summed) over the measured frames of all repetitions; CI = bootstrap 95% CI of the median. "
+        f"× default = the default variant's median ({default}: the one the renderer ran before its variants) "
+        f"over this one's, at the same stage, scene, accel and size (> 1: faster), {MISSING} where the default "
+        f"did not run. BVH {MISSING}: accel {names.BRUTE_FORCE}, no BVH to walk."
+        + (f" Device: {', '.join(devices)}." if devices else "")
+    ]
+    if with_rt:
+        notes.append(GPU_RT_VARIANTS_NOTE)
     return Table(
         "gpu-variants",
-        "The GPU renderer's variants: device time per frame [ms]",
-        ["stage", "scene", names.ACCEL, "size", "BVH", "schedule", "path", "n", "gpu_ms", "95% CI", "× default"],
-        rows,
-        "lllllll" + "rrlr",
+        "The GPU renderers' variants: device time per frame [ms]"
+        if with_rt
+        else "The GPU renderer's variants: device time per frame [ms]",
         [
-            "gpu_ms = median device time of the frame's render dispatches (GPU timestamps; a wavefront frame's "
-            "dispatches summed) over the measured frames of all repetitions; CI = bootstrap 95% CI of the median. "
-            f"× default = the default variant's median ({default}: the one the renderer ran before its variants) "
-            f"over this one's, at the same stage, scene, accel and size (> 1: faster), {MISSING} where the default "
-            f"did not run. BVH {MISSING}: accel {names.BRUTE_FORCE}, no BVH to walk."
-            + (f" Device: {', '.join(devices)}." if devices else "")
+            "stage",
+            "scene",
+            *(["renderer"] if with_rt else []),
+            names.ACCEL,
+            "size",
+            "BVH",
+            "schedule",
+            "path",
+            *(["reorder"] if with_rt else []),
+            "n",
+            "gpu_ms",
+            "95% CI",
+            "× default",
+            *(["× gpu"] if with_rt else []),
         ],
+        rows,
+        "l" * (2 + with_rt + 2 + len(axes)) + "rrlr" + ("r" if with_rt else ""),
+        notes,
     )
+
+
+GPU_RT_VARIANTS_NOTE = (
+    f"{names.GPU_RT_RENDERER}: the Vulkan ray-tracing pipeline on the driver's own acceleration structure (its "
+    f"accel is always {names.BVH}; BVH, schedule and path are the compute renderer's and do not apply); its "
+    f"gpu_ms times the frame's ray traces as the {names.GPU_RENDERER} renderer's times its dispatches. reorder: "
+    f"{names.NO_REORDER}, or hit (the invocations reordered by the sphere they hit before shading, "
+    f"VK_NV_ray_tracing_invocation_reorder); its × default is over reorder {names.NO_REORDER}. × gpu = the "
+    f"{names.GPU_RENDERER} renderer's median in its default variant on its BVH over this one's, at the same "
+    f"stage, scene and size (> 1: the ray-tracing pipeline is faster), {MISSING} where that did not run."
+)
 
 
 def thesis_published(thesis_metrics: pd.DataFrame) -> Table:

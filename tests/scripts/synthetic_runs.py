@@ -35,6 +35,7 @@ class SyntheticConfig:
     gpu_bvh: str = ""
     gpu_schedule: str = ""
     gpu_path: str = ""
+    gpu_rt_reorder: str = ""
 
     @property
     def id(self) -> str:
@@ -62,6 +63,7 @@ class SyntheticConfig:
             names.GPU_BVH: self.gpu_bvh,
             names.GPU_SCHEDULE: self.gpu_schedule,
             names.GPU_PATH: self.gpu_path,
+            names.GPU_RT_REORDER: self.gpu_rt_reorder,
             names.WIDTH: self.width,
             names.HEIGHT: self.height,
         }

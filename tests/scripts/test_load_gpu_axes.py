@@ -48,8 +48,8 @@ def test_an_older_csv_of_the_gpu_renderer_ran_the_default_variant():
     gpu = frames[names.RENDERER] == "gpu"
     assert gpu.any() and (~gpu).any()
     # Brute force: no BVH to walk, one invocation per pixel, one dispatch per frame (hand-written values).
-    assert set(zip(*(frames.loc[gpu, axis] for axis in names.GPU_AXES))) == {("", "pixel", "megakernel")}
-    assert set(zip(*(frames.loc[~gpu, axis] for axis in names.GPU_AXES))) == {("", "", "")}
+    assert set(zip(*(frames.loc[gpu, axis] for axis in names.GPU_AXES))) == {("", "pixel", "megakernel", "")}
+    assert set(zip(*(frames.loc[~gpu, axis] for axis in names.GPU_AXES))) == {("", "", "", "")}
 
 
 def test_an_older_csv_of_the_gpu_renderer_on_the_bvh_walked_the_binary_bvh(tmp_path):
@@ -60,17 +60,17 @@ def test_an_older_csv_of_the_gpu_renderer_on_the_bvh_walked_the_binary_bvh(tmp_p
         path.write_text(path.read_text().replace(",none,800,", ",bvh,800,").replace('"none"', '"bvh"'))
     frames = load.load_runs([run])
     edited = frames[names.SOURCE] == f"run/{GPU_RUN}.csv"
-    assert set(zip(*(frames.loc[edited, axis] for axis in names.GPU_AXES))) == {("binary", "pixel", "megakernel")}
+    assert set(zip(*(frames.loc[edited, axis] for axis in names.GPU_AXES))) == {("binary", "pixel", "megakernel", "")}
 
 
 def test_the_columns_load_as_written_and_name_configurations_apart(tmp_path):
     write_run_dir(tmp_path, {GPU_BVH: TIMES, WIDE: TIMES, SIMD: TIMES})
     frames = load.load_runs([tmp_path])
     simd = frames[names.RENDERER] == "simd_tbb"
-    assert set(zip(*(frames.loc[simd, axis] for axis in names.GPU_AXES))) == {("", "", "")}
+    assert set(zip(*(frames.loc[simd, axis] for axis in names.GPU_AXES))) == {("", "", "", "")}
     # GPU_BVH left the columns empty, as a CSV before them: the loader fills in the default.
     variants = set(zip(*(frames.loc[frames[names.RENDERER] == "gpu", a] for a in names.GPU_AXES)))
-    assert variants == {("binary", "pixel", "megakernel"), ("wide", "persistent", "wavefront")}
+    assert variants == {("binary", "pixel", "megakernel", ""), ("wide", "persistent", "wavefront", "")}
     assert frames.groupby(names.CONFIG_KEYS, dropna=False).ngroups == 3
 
 

@@ -88,6 +88,8 @@ def test_the_gpu_machine_profile_on_16_cores():
         "tbb_only": 13,
         # 18 of brute force in the default variant, 48 of the BVH in 8 variants (random100, 3 stages, 2 sizes).
         "gpu": 18 + 48,
+        # Every scene and stage at both sizes without reordering, and with hit reordering on random100.
+        "gpu_rt": 18 + 6,
         "embree": 9,
     }
     scaling = [
@@ -102,6 +104,8 @@ def test_the_gpu_machine_profile_on_16_cores():
     assert threads[("simd_tbb", "4")] == threads[("simd_tbb", "native")] == threads[("tbb_only", None)] == expected
     sizes = Counter((c.width, c.height) for c in configs if c.renderer == "gpu")
     assert sizes == {(800, 600): 33, (1920, 1080): 33}
+    sizes = Counter((c.width, c.height) for c in configs if c.renderer == "gpu_rt")
+    assert sizes == {(800, 600): 12, (1920, 1080): 12}
 
 
 def test_an_override_of_a_thread_count_does_not_reach_all_cores_of_that_count():

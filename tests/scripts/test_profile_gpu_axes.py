@@ -18,7 +18,12 @@ from rtbench.profiles import ProfileError
 PATH = Path("gpu-axes-test.toml")
 # Hand-written: the schema's variants and the flags the raytracer takes for them.
 BVHS, SCHEDULES, PATHS = ["binary", "wide"], ["pixel", "persistent"], ["megakernel", "wavefront"]
-FLAGS = {"gpu_bvh": "--gpu-bvh", "gpu_schedule": "--gpu-schedule", "gpu_path": "--gpu-path"}
+FLAGS = {
+    "gpu_bvh": "--gpu-bvh",
+    "gpu_schedule": "--gpu-schedule",
+    "gpu_path": "--gpu-path",
+    "gpu_rt_reorder": "--gpu-rt-reorder",
+}
 EVERY_VARIANT = {"gpu_bvhs": BVHS, "gpu_schedules": SCHEDULES, "gpu_paths": PATHS}
 
 
@@ -51,12 +56,14 @@ def test_the_variants_multiply_only_the_gpu_renderer_and_its_bvh_only_with_accel
             assert sorted(variants) == sorted(itertools.product([""], SCHEDULES, PATHS))
         else:
             assert variants == [("", "", "")], (renderer, accel)
+        # gpu_rt has its own axis, at its default here; no other renderer has it.
+        assert {c.gpu_rt_reorder for c in configs if c.renderer == renderer} == {"none" if renderer == "gpu_rt" else ""}
     for c in configs:
         for column, flag in FLAGS.items():
             assert flag_value(c, flag) == (c.gpu_axes[column] or None), (c.id, flag)
         assert c.describe()["gpu_schedule"] == c.gpu_schedule
-    # gpu: 8 with the BVH + 4 brute force; the others once per accel (embree once).
-    assert len(configs) == 8 + 4 + 2 * (len(names.RENDERERS) - 1) - 1
+    # gpu: 8 with the BVH + 4 brute force; the others once per accel (embree and gpu_rt once).
+    assert len(configs) == 8 + 4 + 2 * (len(names.RENDERERS) - 1) - 2
 
 
 def test_the_defaults_run_the_gpu_as_before_and_leave_its_names_as_they_were():
@@ -148,10 +155,10 @@ def test_the_gpu_machine_profile_runs_the_gpu_bvh_in_every_variant_on_random100(
     brute = [c for c in configs if c.renderer == "gpu" and c.accel == "none"]
     assert len(brute) == 18 and {variant(c) for c in brute} == {("", "pixel", "megakernel")}
     assert all(c.frames == 40 for c in configs if c.renderer == "gpu")
-    # No CPU renderer gains the BVH; embree keeps its own, once per scene and stage.
-    assert {c.renderer for c in configs if c.accel == "bvh"} == {"gpu", "embree"}
+    # No CPU renderer gains the BVH; embree and gpu_rt keep their own.
+    assert {c.renderer for c in configs if c.accel == "bvh"} == {"gpu", "gpu_rt", "embree"}
     assert sum(c.renderer == "embree" for c in configs) == 9
-    assert len(configs) == 77 + 48
+    assert len(configs) == 77 + 48 + 24
 
 
 def test_the_scene_size_profile_runs_the_gpu_bvh_in_every_variant_at_every_count():
@@ -164,5 +171,9 @@ def test_the_scene_size_profile_runs_the_gpu_bvh_in_every_variant_at_every_count
         ), scene
         assert {variant(c) for c in here if c.accel == "none"} <= {("", "pixel", "megakernel")}
     assert {(c.warmup, c.frames) for c in gpu} == {(3, 20)}
+    # gpu_rt beside it at every count, without reordering, measured as the gpu.
+    rt = [c for c in configs if c.renderer == "gpu_rt"]
+    assert sorted(c.scene for c in rt) == sorted({c.scene for c in configs})
+    assert {(c.accel, c.gpu_rt_reorder, c.warmup, c.frames) for c in rt} == {("bvh", "none", 3, 20)}
     # The other renderers as they were (frames, cells).
-    assert all(not any(c.gpu_axes.values()) for c in configs if c.renderer != "gpu")
+    assert all(not any(c.gpu_axes.values()) for c in configs if c.renderer not in ("gpu", "gpu_rt"))

@@ -36,8 +36,8 @@ def test_traversals_multiply_only_the_simd_kernel_on_the_bvh():
             assert traversals == [""], (renderer, accel)
     for c in configs:
         assert flag_value(c, configurations.TRAVERSAL_FLAG) == (c.traversal or None)
-    # Embree keeps its own BVH and runs once; brute force and the scalar kernel once per accel.
-    assert len(configs) == 2 * len(names.RENDERERS) - 1 + 2 * (len(names.TRAVERSALS) - 1)
+    # Embree and gpu_rt keep their own BVH and run once; brute force and the scalar kernel once per accel.
+    assert len(configs) == 2 * len(names.RENDERERS) - len(names.OWN_ACCEL) + 2 * (len(names.TRAVERSALS) - 1)
 
 
 def test_a_traversal_names_its_configuration_except_packets():
