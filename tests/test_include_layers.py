@@ -22,11 +22,13 @@ BUILDS_ON: dict[str, tuple[str, ...]] = {
     "gpu/vulkan": ("core",),
     "gpu/present": ("gpu/vulkan", "render"),
     "gpu/compute": ("gpu/present", "render"),
+    # The ray-tracing pipeline renderer shares the compute room's GPU layout.
+    "gpu/raytracing": ("gpu/compute",),
     "window": ("gpu/present",),
-    "app": ("gpu/compute", "window"),
+    "app": ("gpu/raytracing", "window"),
 }
 SHARED = "shaders"
-# The CMake library of each layer; rt_gpu is the three rooms of src/gpu together.
+# The CMake library of each layer; rt_gpu is the rooms of src/gpu together.
 LIBRARIES: dict[str, tuple[str, ...]] = {
     "rt_core": ("core",),
     "rt_scene": ("scene",),
@@ -34,12 +36,22 @@ LIBRARIES: dict[str, tuple[str, ...]] = {
     "rt_gpu_vulkan": ("gpu/vulkan",),
     "rt_gpu_present": ("gpu/present",),
     "rt_gpu_compute": ("gpu/compute",),
-    "rt_gpu": ("gpu/vulkan", "gpu/present", "gpu/compute"),
+    "rt_gpu_raytracing": ("gpu/raytracing",),
+    "rt_gpu": ("gpu/vulkan", "gpu/present", "gpu/compute", "gpu/raytracing"),
     "rt_window": ("window",),
     "rt_app": ("app",),
 }
 # Quoted includes that name files CMake generates in the build tree.
-GENERATED = {"rt_schema.h", "rt_schema_metadata.h", "raytrace_spirv.h"}
+GENERATED = {
+    "rt_schema.h",
+    "rt_schema_metadata.h",
+    "raytrace_spirv.h",
+    "raytrace_rgen_spirv.h",
+    "raytrace_rgen_reorder_spirv.h",
+    "sphere_rint_spirv.h",
+    "sphere_rchit_spirv.h",
+    "sphere_rmiss_spirv.h",
+}
 
 SOURCE_SUFFIXES = (".h", ".cpp", ".cc")
 QUOTED_INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)

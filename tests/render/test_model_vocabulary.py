@@ -102,6 +102,11 @@ def test_docs_table_lists_the_vocabulary() -> None:
 
 
 def test_push_constants_are_declared_from_one_list() -> None:
-    """The shader's block and its C++ mirror both expand RT_FRAME_CONSTANTS (shaders/gpu_interface.h)."""
-    assert "RT_FRAME_CONSTANTS(RT_GLSL_MEMBER)" in (REPO / "shaders/raytrace.comp").read_text()
+    """Both GPU renderers' shaders declare their block from RT_FRAME_CONSTANTS (shaders/gpu_interface.h), in the
+    one file they include, and so does the C++ mirror."""
+    assert "RT_FRAME_CONSTANTS(RT_GLSL_MEMBER)" in (REPO / "shaders/frame_inputs.glsl").read_text()
+    assert '#include "frame_inputs.glsl"' in (REPO / "shaders/raytrace.comp").read_text()
+    assert '#include "frame_inputs.glsl"' in (REPO / "shaders/ray_tracing_stages.glsl").read_text()
+    for stage in ("raytrace.rgen", "sphere.rint", "sphere.rchit", "sphere.rmiss"):
+        assert '#include "ray_tracing_stages.glsl"' in (REPO / "shaders" / stage).read_text(), stage
     assert any("RT_FRAME_CONSTANTS(RT_CPP_MEMBER)" in f.read_text() for f in (REPO / "src/gpu").rglob("*.h"))
