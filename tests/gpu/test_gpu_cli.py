@@ -167,3 +167,57 @@ def test_cpu_renderer_uploads_by_default_when_a_device_opens(raytracer, repo_roo
     assert {r["present"] for r in rows} == {"upload"}
     assert all(r["gpu_ms"] == "" for r in rows)
     assert json.loads((tmp_path / "run.meta.json").read_text())["config"]["present_reason"].startswith("default")
+
+
+# The ray-tracing pipeline renderer (gpu_rt) ===================================================
+# Whether the default device offers an extension, asked of vulkaninfo (not of the binary under test).
+def offers(extension):
+    done = subprocess.run(["vulkaninfo"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    devices = re.split(r"^GPU\d+:$", done.stdout, flags=re.M)[1:]
+    assert devices, "vulkaninfo lists no device"
+    return re.search(rf"^\s*{re.escape(extension)}\s*:", devices[0], re.M) is not None
+
+
+def test_gpu_rt_runs_validated_or_is_refused_where_the_device_lacks_the_pipeline(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    done = run(
+        raytracer, "--gpu-rt", repo_root / "scenes/random20.json", *SMALL, "--vk-validation", "--csv", csv_path
+    )
+    if not offers("VK_KHR_ray_tracing_pipeline"):
+        assert done.returncode == EXIT_NO_DEVICE, done.stderr
+        assert "VK_KHR_ray_tracing_pipeline" in done.stderr and "ray-tracing pipeline renderer" in done.stderr
+        assert not csv_path.exists(), "nothing rendered, nothing written"
+        return
+    assert done.returncode == 0, done.stderr
+    rows = read_csv(csv_path)
+    assert {r["renderer"] for r in rows} == {"gpu_rt"}
+    assert {r["accel"] for r in rows} == {"bvh"}, "the driver's structure is recorded as its own BVH"
+    assert {r["gpu_rt_reorder"] for r in rows} == {"none"}
+    assert {(r["gpu_bvh"], r["gpu_schedule"], r["gpu_path"]) for r in rows} == {("", "", "")}
+    assert all(float(r["gpu_ms"]) > 0 for r in rows), "timestamps around every trace"
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    structure = meta["accel_structure"]
+    assert structure["device_bytes"] > 0 and structure["nodes"] is None and structure["depth"] is None
+    assert meta["config"]["gpu_rt_reorder"] == "none"
+
+
+def test_gpu_rt_hit_reorder_needs_nvidias_extension(raytracer, repo_root):
+    if not offers("VK_KHR_ray_tracing_pipeline"):
+        pytest.skip("no ray-tracing pipeline on this device (the test above checks the refusal)")
+    done = run(raytracer, "--gpu-rt", "--gpu-rt-reorder", "hit", repo_root / "scenes/random20.json", *SMALL)
+    if offers("VK_NV_ray_tracing_invocation_reorder"):
+        assert done.returncode == 0, done.stderr
+    else:
+        assert done.returncode == EXIT_NO_DEVICE, done.stderr
+        assert "VK_NV_ray_tracing_invocation_reorder" in done.stderr
+
+
+@pytest.mark.parametrize(
+    "args",
+    [["--gpu-rt", "--accel", "none"], ["--gpu-rt", "--gpu-bvh", "wide"], ["--gpu", "--gpu-rt-reorder", "hit"]],
+)
+def test_gpu_rt_options_are_refused_where_they_do_not_apply(raytracer, repo_root, args):
+    done = run(raytracer, *args, repo_root / "scenes/random20.json", *SMALL)
+    assert done.returncode == EXIT_BAD_INPUT, done.stderr
+    assert args[1] in done.stderr, "the message names the option"

@@ -16,8 +16,7 @@
 #include "gpu/present/shader_output.h"
 #include "gpu/present/swapchain.h"
 #include "gpu/vulkan/context.h"
-#include "gpu/vulkan/gpu_profiler.h"
-#include "gpu/vulkan/timestamps.h"
+#include "gpu/vulkan/frame_commands.h"
 #include "render/accel/bvh.h"
 #include "render/accel/wide_bvh.h"
 
@@ -273,37 +272,29 @@ bool usesScheduleBuffers(const RenderOptions& options) {
 
 }  // namespace
 
-// What lives as long as the renderer: one command buffer for every phase and the timestamp queries.
-struct GPURenderer::DeviceObjects {
-  explicit DeviceObjects(const Device& d) : device(d) {}
-  const Device& device;
-  CommandRunner runner{device};
-  DispatchTimer timer{device};
-  GpuProfiler profiler{device, runner};
-};
-
 // What prepare() makes for one scene, size and variant. Declared in
 // creation order, so the descriptor set goes before the buffer and image
 // it names.
 struct GPURenderer::SceneObjects {
-  SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& o, PresentMode mode)
+  SceneObjects(const Device& d, CommandRunner& runner, const Scene& s, Extent e, const RenderOptions& o,
+               PresentMode mode)
       : scene(s),
         options(o),
         shading(shadingParamsOf(s)),
         extent(e),
         accel(accelFor(s, o)),
         wide(wideBvhFor(s, o, accel.bvh())),
-        pipeline(d.device, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
-        spheres(uploadStorage(d.device, d.runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
-        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d.device, d.runner, *accel.bvh(), s.spheres,
+        pipeline(d, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
+        spheres(uploadStorage(d, runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
+        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s.spheres,
                                                                 wide ? &*wide : nullptr)
                                : std::nullopt),
-        wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d.device, d.runner, *wide) : std::nullopt),
-        counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d.device) : std::nullopt),
-        scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d.device, s, e, o) : std::nullopt),
+        wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d, runner, *wide) : std::nullopt),
+        counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d) : std::nullopt),
+        scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d, s, e, o) : std::nullopt),
         initialControlWords(initialControl(s.render.maxDepth, e)),
-        output(d.device, d.runner, e, mode, PipelineStage::eComputeShader),
-        bindings(d.device, pipeline, sceneBuffers(), output.image()) {}
+        output(d, runner, e, mode, PipelineStage::eComputeShader),
+        bindings(d, pipeline, sceneBuffers(), output.image()) {}
 
   const Scene& scene;
   RenderOptions options;
@@ -415,8 +406,8 @@ GPURenderer::GPURenderer(std::shared_ptr<Context> device, PresentMode present, s
   if (!context_) throw std::invalid_argument("the GPU renderer needs a Vulkan device");
   if (presentMode_ == PresentMode::window && !window_)
     throw std::invalid_argument("present mode 'window' needs a swapchain");
-  device_ =
-      translateVulkanErrors("GPU renderer set-up", [&] { return std::make_unique<DeviceObjects>(context_->device()); });
+  frames_ =
+      translateVulkanErrors("GPU renderer set-up", [&] { return std::make_unique<FrameCommands>(context_->device()); });
 }
 
 GPURenderer::~GPURenderer() {
@@ -450,7 +441,7 @@ void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions
   requireSubgroupOperations(context_->device(), options);
   refuseLoopsPastLavapipeLimit(context_->device(), scene, extent, options);
   scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
-    return std::make_unique<SceneObjects>(*device_, scene, extent, options, presentMode_);
+    return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, options, presentMode_);
   });
 }
 
@@ -463,30 +454,22 @@ void GPURenderer::render(const CameraFrame& camera) {
   SceneObjects& s = prepared();
   const FrameConstants constants =
       makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
-  const DispatchTimer& timer = device_->timer;
-  [[maybe_unused]] const GpuProfiler& profiler = device_->profiler;
+  using CommandBuffer = vk::raii::CommandBuffer;
   translateVulkanErrors("render", [&] {
-    device_->runner.run("render", [&](const vk::raii::CommandBuffer& cb) {
-      // Last frame's GPU zones have completed (its submit was waited for).
-      TracyVkCollect(profiler.context(), *cb);
-      timer.recordReset(cb);
-      s.recordFrameReset(cb);
-      s.output.recordBeforeShaderWrites(cb);
-      {
-        TracyVkZone(profiler.context(), *cb, "raytrace dispatch");
-        timer.recordStart(cb);
-        s.recordDispatches(cb, s.bindings.set(), constants);
-        timer.recordEnd(cb);
-      }
-      s.recordCounterReadback(cb);
-    });
-    gpuMs_ = timer.readMs();
+    gpuMs_ = frames_->renderFrame(
+        "raytrace dispatch",
+        [&](const CommandBuffer& cb) {
+          s.recordFrameReset(cb);
+          s.output.recordBeforeShaderWrites(cb);
+        },
+        [&](const CommandBuffer& cb) { s.recordDispatches(cb, s.bindings.set(), constants); },
+        [&](const CommandBuffer& cb) { s.recordCounterReadback(cb); });
     if (s.counterBuffers) counters_ = s.counterBuffers->read();
   });
 }
 
-void GPURenderer::present() { prepared().output.present(device_->runner, device_->profiler, window_.get()); }
+void GPURenderer::present() { prepared().output.present(frames_->runner(), frames_->profiler(), window_.get()); }
 
-void GPURenderer::readPresented(Image& target) { prepared().output.readPresented(device_->runner, target); }
+void GPURenderer::readPresented(Image& target) { prepared().output.readPresented(frames_->runner(), target); }
 
 }  // namespace rt::gpu

@@ -7,6 +7,7 @@
 namespace rt::gpu {
 
 class Context;
+class FrameCommands;
 class Swapchain;
 
 // The thesis' GPURenderer: a Vulkan compute shader, one invocation per
@@ -40,14 +41,13 @@ class GPURenderer final : public Renderer {
   [[nodiscard]] std::optional<LaneCounters> lastCounters() const override { return counters_; }
 
  private:
-  struct DeviceObjects;
   struct SceneObjects;
   SceneObjects& prepared();  // throws std::logic_error before prepare()
 
   std::shared_ptr<Context> context_;  // declared first, so destroyed last
   PresentMode presentMode_;
   std::shared_ptr<Swapchain> window_;  // mode window only
-  std::unique_ptr<DeviceObjects> device_;
+  std::unique_ptr<FrameCommands> frames_;
   std::unique_ptr<SceneObjects> scene_;
   std::optional<double> gpuMs_;
   std::optional<LaneCounters> counters_;

@@ -10,8 +10,7 @@
 #include "gpu/raytracing/ray_tracing_pipeline.h"
 #include "gpu/raytracing/sphere_acceleration.h"
 #include "gpu/vulkan/context.h"
-#include "gpu/vulkan/gpu_profiler.h"
-#include "gpu/vulkan/timestamps.h"
+#include "gpu/vulkan/frame_commands.h"
 
 namespace rt::gpu {
 namespace {
@@ -31,28 +30,19 @@ Buffer uploadSpheres(const Device& device, CommandRunner& runner, std::span<cons
 
 }  // namespace
 
-// What lives as long as the renderer: the command buffer every phase
-// records into, the timestamp queries, Tracy's GPU context.
-struct GpuRtRenderer::DeviceObjects {
-  explicit DeviceObjects(const Device& d) : device(d) {}
-  const Device& device;
-  CommandRunner runner{device};
-  DispatchTimer timer{device};
-  GpuProfiler profiler{device, runner};
-};
-
 // What prepare() makes for one scene, size and variant, in creation order.
 struct GpuRtRenderer::SceneObjects {
-  SceneObjects(DeviceObjects& d, const Scene& s, Extent e, const RenderOptions& o, PresentMode mode)
+  SceneObjects(const Device& d, CommandRunner& runner, const Scene& s, Extent e, const RenderOptions& o,
+               PresentMode mode)
       : scene(s),
         options(o),
         shading(shadingParamsOf(s)),
         extent(e),
-        structure(d.device, d.runner, s),
-        pipeline(d.device, d.runner, variantFor(s, o)),
-        spheres(uploadSpheres(d.device, d.runner, s.spheres)),
-        output(d.device, d.runner, e, mode, vk::PipelineStageFlagBits::eRayTracingShaderKHR),
-        bindings(d.device, pipeline, structure.topLevel(), spheres.handle(), output.image()) {}
+        structure(d, runner, s),
+        pipeline(d, runner, variantFor(s, o)),
+        spheres(uploadSpheres(d, runner, s.spheres)),
+        output(d, runner, e, mode, vk::PipelineStageFlagBits::eRayTracingShaderKHR),
+        bindings(d, pipeline, structure.topLevel(), spheres.handle(), output.image()) {}
 
   const Scene& scene;
   RenderOptions options;
@@ -70,8 +60,8 @@ GpuRtRenderer::GpuRtRenderer(std::shared_ptr<Context> device, PresentMode presen
   if (!context_) throw std::invalid_argument("the ray-tracing pipeline renderer needs a Vulkan device");
   if (presentMode_ == PresentMode::window && !window_)
     throw std::invalid_argument("present mode 'window' needs a swapchain");
-  device_ = translateVulkanErrors("ray-tracing pipeline renderer set-up",
-                                  [&] { return std::make_unique<DeviceObjects>(context_->device()); });
+  frames_ = translateVulkanErrors("ray-tracing pipeline renderer set-up",
+                                  [&] { return std::make_unique<FrameCommands>(context_->device()); });
 }
 
 GpuRtRenderer::~GpuRtRenderer() {
@@ -106,7 +96,7 @@ void GpuRtRenderer::prepare(const Scene& scene, Extent extent, const RenderOptio
   scene_.reset();  // the old objects go before new ones take their memory
   gpuMs_.reset();
   scene_ = translateVulkanErrors("ray-tracing pipeline renderer prepare", [&] {
-    return std::make_unique<SceneObjects>(*device_, scene, extent, options, presentMode_);
+    return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, options, presentMode_);
   });
 }
 
@@ -119,27 +109,17 @@ void GpuRtRenderer::render(const CameraFrame& camera) {
   SceneObjects& s = prepared();
   const FrameConstants constants =
       makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
-  const DispatchTimer& timer = device_->timer;
-  [[maybe_unused]] const GpuProfiler& profiler = device_->profiler;
+  using CommandBuffer = vk::raii::CommandBuffer;
   translateVulkanErrors("render", [&] {
-    device_->runner.run("render", [&](const vk::raii::CommandBuffer& cb) {
-      // Last frame's GPU zones have completed (its submit was waited for).
-      TracyVkCollect(profiler.context(), *cb);
-      timer.recordReset(cb);
-      s.output.recordBeforeShaderWrites(cb);
-      {
-        TracyVkZone(profiler.context(), *cb, "trace rays");
-        timer.recordStart(cb);
-        s.pipeline.recordTrace(cb, s.bindings.set(), constants, s.extent);
-        timer.recordEnd(cb);
-      }
-    });
-    gpuMs_ = timer.readMs();
+    gpuMs_ = frames_->renderFrame(
+        "trace rays", [&](const CommandBuffer& cb) { s.output.recordBeforeShaderWrites(cb); },
+        [&](const CommandBuffer& cb) { s.pipeline.recordTrace(cb, s.bindings.set(), constants, s.extent); },
+        [](const CommandBuffer&) {});
   });
 }
 
-void GpuRtRenderer::present() { prepared().output.present(device_->runner, device_->profiler, window_.get()); }
+void GpuRtRenderer::present() { prepared().output.present(frames_->runner(), frames_->profiler(), window_.get()); }
 
-void GpuRtRenderer::readPresented(Image& target) { prepared().output.readPresented(device_->runner, target); }
+void GpuRtRenderer::readPresented(Image& target) { prepared().output.readPresented(frames_->runner(), target); }
 
 }  // namespace rt::gpu

@@ -7,6 +7,7 @@
 namespace rt::gpu {
 
 class Context;
+class FrameCommands;
 class Swapchain;
 
 // The GPU's reference renderer (gpu_rt): what a user of a Vulkan GPU would
@@ -35,14 +36,13 @@ class GpuRtRenderer final : public Renderer {
   [[nodiscard]] std::optional<double> lastGpuMs() const override { return gpuMs_; }
 
  private:
-  struct DeviceObjects;
   struct SceneObjects;
   SceneObjects& prepared();  // throws std::logic_error before prepare()
 
   std::shared_ptr<Context> context_;  // declared first, so destroyed last
   PresentMode presentMode_;
   std::shared_ptr<Swapchain> window_;
-  std::unique_ptr<DeviceObjects> device_;
+  std::unique_ptr<FrameCommands> frames_;
   std::unique_ptr<SceneObjects> scene_;
   std::optional<double> gpuMs_;
 };

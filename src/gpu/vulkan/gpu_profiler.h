@@ -11,6 +11,7 @@
 #include <tracy/TracyVulkan.hpp>
 #else
 #define TracyVkZone(ctx, cmdbuf, name)
+#define TracyVkZoneTransient(ctx, varname, cmdbuf, name, active)
 #define TracyVkCollect(ctx, cmdbuf)
 #endif
 
