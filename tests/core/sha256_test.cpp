@@ -54,7 +54,9 @@ TEST_P(Sha256KnownAnswers, PiecesOfAnySizeGiveTheWholeTextsDigest) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kernels, Sha256KnownAnswers, ::testing::Values(Sha256Kernel::fastest, Sha256Kernel::portable),
-                         [](const auto& kernel) { return kernel.param == Sha256Kernel::fastest ? "fastest" : "portable"; });
+                         [](const auto& kernel) {
+                           return kernel.param == Sha256Kernel::fastest ? "fastest" : "portable";
+                         });
 
 }  // namespace
 }  // namespace rt

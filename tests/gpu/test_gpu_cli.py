@@ -181,9 +181,7 @@ def offers(extension):
 
 def test_gpu_rt_runs_validated_or_is_refused_where_the_device_lacks_the_pipeline(raytracer, repo_root, tmp_path):
     csv_path = tmp_path / "run.csv"
-    done = run(
-        raytracer, "--gpu-rt", repo_root / "scenes/random20.json", *SMALL, "--vk-validation", "--csv", csv_path
-    )
+    done = run(raytracer, "--gpu-rt", repo_root / "scenes/random20.json", *SMALL, "--vk-validation", "--csv", csv_path)
     if not offers("VK_KHR_ray_tracing_pipeline"):
         assert done.returncode == EXIT_NO_DEVICE, done.stderr
         assert "VK_KHR_ray_tracing_pipeline" in done.stderr and "ray-tracing pipeline renderer" in done.stderr

@@ -286,9 +286,9 @@ struct GPURenderer::SceneObjects {
         wide(wideBvhFor(s, o, accel.bvh())),
         pipeline(d, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
         spheres(uploadStorage(d, runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
-        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s.spheres,
-                                                                wide ? &*wide : nullptr)
-                               : std::nullopt),
+        bvhBuffers(accel.bvh()
+                       ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s.spheres, wide ? &*wide : nullptr)
+                       : std::nullopt),
         wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d, runner, *wide) : std::nullopt),
         counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d) : std::nullopt),
         scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d, s, e, o) : std::nullopt),

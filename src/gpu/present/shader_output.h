@@ -40,7 +40,7 @@ class ShaderOutput {
   ImageState shaderWrite_;
   DeviceImage image_;
   Buffer readback_;
-  std::optional<PresentImage> presentImage_;            // mode upload only
+  std::optional<PresentImage> presentImage_;              // mode upload only
   vk::ImageLayout layout_ = vk::ImageLayout::eUndefined;  // as the last recorded commands leave it
 };
 

@@ -67,8 +67,9 @@ vk::raii::PipelineLayout createLayout(const Device& device, const vk::raii::Desc
 
 vk::raii::Pipeline createPipeline(const Device& device, const vk::raii::PipelineLayout& layout,
                                   const RayTracingVariant& variant) {
-  const std::span<const std::uint32_t> raygen = variant.reorder ? std::span<const std::uint32_t>(rt_raytrace_rgen_reorder_spirv)
-                                                                : std::span<const std::uint32_t>(rt_raytrace_rgen_spirv);
+  const std::span<const std::uint32_t> raygen = variant.reorder
+                                                    ? std::span<const std::uint32_t>(rt_raytrace_rgen_reorder_spirv)
+                                                    : std::span<const std::uint32_t>(rt_raytrace_rgen_spirv);
   // Only needed while the pipeline is built.
   const std::array modules{moduleOf(device, raygen), moduleOf(device, rt_sphere_rmiss_spirv),
                            moduleOf(device, rt_sphere_rint_spirv), moduleOf(device, rt_sphere_rchit_spirv)};
@@ -181,9 +182,10 @@ RayTracingBindings::RayTracingBindings(const Device& device, const RayTracingPip
                                        vk::AccelerationStructureKHR topLevel, vk::Buffer spheres,
                                        const DeviceImage& output)
     : pool_(device.logical(), [] {
-        static constexpr std::array<vk::DescriptorPoolSize, 3> kSizes{{{vk::DescriptorType::eAccelerationStructureKHR, 1},
-                                                                        {vk::DescriptorType::eStorageBuffer, 1},
-                                                                        {vk::DescriptorType::eStorageImage, 1}}};
+        static constexpr std::array<vk::DescriptorPoolSize, 3> kSizes{
+            {{vk::DescriptorType::eAccelerationStructureKHR, 1},
+             {vk::DescriptorType::eStorageBuffer, 1},
+             {vk::DescriptorType::eStorageImage, 1}}};
         // FreeDescriptorSet: the RAII set frees itself before the pool goes.
         return vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
                                             .maxSets = 1,

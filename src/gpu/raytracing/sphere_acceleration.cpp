@@ -29,10 +29,11 @@ vk::DeviceSize alignUp(vk::DeviceSize value, vk::DeviceSize alignment) {
 }
 
 vk::DeviceSize scratchAlignment(const Device& device) {
-  const auto chain = device.physical()
-                         .getProperties2<vk::PhysicalDeviceProperties2,
-                                         vk::PhysicalDeviceAccelerationStructurePropertiesKHR>();
-  return chain.get<vk::PhysicalDeviceAccelerationStructurePropertiesKHR>().minAccelerationStructureScratchOffsetAlignment;
+  const auto chain =
+      device.physical()
+          .getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceAccelerationStructurePropertiesKHR>();
+  return chain.get<vk::PhysicalDeviceAccelerationStructurePropertiesKHR>()
+      .minAccelerationStructureScratchOffsetAlignment;
 }
 
 // Builds one level from `geometry` (`primitives` boxes or instances) on the
@@ -81,8 +82,8 @@ AccelerationLevel buildBottomLevel(const Device& device, CommandRunner& runner, 
   const Buffer boxBuffer = uploadToDevice(device, runner, std::as_bytes(std::span(boxes)), kBuildInput,
                                           PipelineStage::eAccelerationStructureBuildKHR, Access::eShaderRead);
   vk::AccelerationStructureGeometryDataKHR boxData;
-  boxData.aabbs = vk::AccelerationStructureGeometryAabbsDataKHR{.data = deviceAddressOf(boxBuffer),
-                                                               .stride = sizeof(SphereBox)};
+  boxData.aabbs =
+      vk::AccelerationStructureGeometryAabbsDataKHR{.data = deviceAddressOf(boxBuffer), .stride = sizeof(SphereBox)};
   // Opaque: no any-hit shader runs, the intersection shader's nearest report wins.
   const vk::AccelerationStructureGeometryKHR geometry{
       .geometryType = vk::GeometryTypeKHR::eAabbs, .geometry = boxData, .flags = vk::GeometryFlagBitsKHR::eOpaque};
@@ -103,8 +104,9 @@ AccelerationLevel buildTopLevel(const Device& device, CommandRunner& runner, con
   vk::AccelerationStructureGeometryDataKHR instances;
   instances.instances = vk::AccelerationStructureGeometryInstancesDataKHR{.arrayOfPointers = VK_FALSE,
                                                                           .data = deviceAddressOf(instanceBuffer)};
-  const vk::AccelerationStructureGeometryKHR geometry{
-      .geometryType = vk::GeometryTypeKHR::eInstances, .geometry = instances, .flags = vk::GeometryFlagBitsKHR::eOpaque};
+  const vk::AccelerationStructureGeometryKHR geometry{.geometryType = vk::GeometryTypeKHR::eInstances,
+                                                      .geometry = instances,
+                                                      .flags = vk::GeometryFlagBitsKHR::eOpaque};
   return buildLevel(device, runner, vk::AccelerationStructureTypeKHR::eTopLevel, geometry, 1);
 }
 

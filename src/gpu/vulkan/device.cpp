@@ -188,13 +188,12 @@ void requireRayTracing(const vk::raii::PhysicalDevice& physical, const DeviceInf
     if (!hasExtension(available, name)) missing += (missing.empty() ? "" : ", ") + std::string(name);
   }
   if (missing.empty()) return;
-  throw DeviceUnavailable("device " + std::to_string(described.index) + " (" + described.name + ", " +
-                          described.driverInfo + ") offers no " + missing +
-                          ": the ray-tracing pipeline renderer needs " +
-                          (options.invocationReorder ? "them (--gpu-rt-reorder hit needs NVIDIA's reorder extension)"
-                                                     : "them") +
-                          ". Mesa's lavapipe offers the KHR ones from Mesa 25 (Debian 13), not in Debian 12's 22.3; "
-                          "use --gpu for the compute renderer");
+  throw DeviceUnavailable(
+      "device " + std::to_string(described.index) + " (" + described.name + ", " + described.driverInfo +
+      ") offers no " + missing + ": the ray-tracing pipeline renderer needs " +
+      (options.invocationReorder ? "them (--gpu-rt-reorder hit needs NVIDIA's reorder extension)" : "them") +
+      ". Mesa's lavapipe offers the KHR ones from Mesa 25 (Debian 13), not in Debian 12's 22.3; "
+      "use --gpu for the compute renderer");
 }
 
 vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, std::uint32_t queueFamily,
@@ -220,10 +219,9 @@ vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, s
     const auto needed = rayTracingExtensions(options);
     extensions.insert(extensions.end(), needed.begin(), needed.end());
   }
-  vk::StructureChain<vk::DeviceCreateInfo, vk::PhysicalDeviceVulkan12Features,
-                     vk::PhysicalDeviceAccelerationStructureFeaturesKHR,
-                     vk::PhysicalDeviceRayTracingPipelineFeaturesKHR,
-                     vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV>
+  vk::StructureChain<
+      vk::DeviceCreateInfo, vk::PhysicalDeviceVulkan12Features, vk::PhysicalDeviceAccelerationStructureFeaturesKHR,
+      vk::PhysicalDeviceRayTracingPipelineFeaturesKHR, vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV>
       chain{vk::DeviceCreateInfo{.queueCreateInfoCount = 1,
                                  .pQueueCreateInfos = &queue,
                                  .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),

@@ -47,8 +47,8 @@ Buffer::Buffer(const Device& device, vk::DeviceSize size, vk::BufferUsageFlags u
   const vk::MemoryRequirements requirements = buffer_.getMemoryRequirements();
   const MemoryChoice choice = memoryFor(use);
   const std::uint32_t type = device.memoryTypeIndex(requirements.memoryTypeBits, choice.required, choice.preferred);
-  memory_ = allocate(device, requirements, type,
-                     static_cast<bool>(usage & vk::BufferUsageFlagBits::eShaderDeviceAddress));
+  memory_ =
+      allocate(device, requirements, type, static_cast<bool>(usage & vk::BufferUsageFlagBits::eShaderDeviceAddress));
   buffer_.bindMemory(*memory_, 0);
   if (use != MemoryUse::deviceLocal) {
     // Mapped once for the buffer's life; freeing the memory unmaps it.

@@ -13,10 +13,10 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <vector>
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "gpu/gpu_test_support.h"
 #include "gpu/vulkan/device.h"
@@ -96,9 +96,8 @@ gpu::ContextOptions rayTracingOptions() {
 bool offersRayTracing(const gpu::Context& plain) {
   const auto extensions = plain.device().physical().enumerateDeviceExtensionProperties();
   const auto has = [&](std::string_view name) {
-    return std::ranges::any_of(extensions, [&](const vk::ExtensionProperties& e) {
-      return std::string_view(e.extensionName.data()) == name;
-    });
+    return std::ranges::any_of(
+        extensions, [&](const vk::ExtensionProperties& e) { return std::string_view(e.extensionName.data()) == name; });
   };
   return has(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME) && has(VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME);
 }
@@ -114,8 +113,9 @@ class RayTracingGpuTest : public ValidatedGpuTest {
   void SetUp() override {
     ValidatedGpuTest::SetUp();
     if (!offersRayTracing(*context())) {
-      GTEST_SKIP() << "this device offers no ray-tracing pipeline (RayTracingDevice.IsRefusedWhereTheExtensionsAreMissing "
-                      "checks the refusal)";
+      GTEST_SKIP()
+          << "this device offers no ray-tracing pipeline (RayTracingDevice.IsRefusedWhereTheExtensionsAreMissing "
+             "checks the refusal)";
     }
     rtBefore_ = rayTracingContext()->validationMessages();
   }
