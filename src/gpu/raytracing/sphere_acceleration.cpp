@@ -73,12 +73,7 @@ AccelerationLevel buildLevel(const Device& device, CommandRunner& runner, vk::Ac
 }
 
 AccelerationLevel buildBottomLevel(const Device& device, CommandRunner& runner, const Scene& scene) {
-  float maxCoordinate = 0.0f;
-  for (const Sphere& s : scene.spheres) {
-    for (int a = 0; a < 3; ++a) maxCoordinate = std::max(maxCoordinate, std::abs(s.position[a]) + s.radius);
-  }
-  const std::vector<SphereBox> boxes =
-      paddedSphereBoxes(scene.spheres, std::max(maxCoordinate, cameraMaxCoordinate(scene.camera)));
+  const std::vector<SphereBox> boxes = paddedSphereBoxes(scene.spheres, cameraMaxCoordinate(scene.camera));
   const Buffer boxBuffer = uploadToDevice(device, runner, std::as_bytes(std::span(boxes)), kBuildInput,
                                           PipelineStage::eAccelerationStructureBuildKHR, Access::eShaderRead);
   vk::AccelerationStructureGeometryDataKHR boxData;
@@ -112,14 +107,15 @@ AccelerationLevel buildTopLevel(const Device& device, CommandRunner& runner, con
 
 }  // namespace
 
-std::vector<SphereBox> paddedSphereBoxes(std::span<const Sphere> spheres, float originMaxCoordinate) {
+std::vector<SphereBox> paddedSphereBoxes(std::span<const Sphere> spheres, float cameraBound) {
   float maxRadius = 0.0f;
   float maxCoordinate = 0.0f;
   for (const Sphere& s : spheres) {
     maxRadius = std::max(maxRadius, s.radius);
     for (int a = 0; a < 3; ++a) maxCoordinate = std::max(maxCoordinate, std::abs(s.position[a]) + s.radius);
   }
-  const float pad = traversalPad(maxRadius, maxCoordinate, originMaxCoordinate);
+  // Reflected rays start on the spheres' surfaces, camera rays at the camera.
+  const float pad = traversalPad(maxRadius, maxCoordinate, std::max(maxCoordinate, cameraBound));
   std::vector<SphereBox> boxes(spheres.size());
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     const Sphere& s = spheres[i];

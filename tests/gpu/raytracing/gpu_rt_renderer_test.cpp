@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <memory>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "gpu/gpu_test_support.h"
+#include "gpu/raytracing/sphere_acceleration.h"
 #include "gpu/vulkan/device.h"
 #include "render/accel/accel_scenes.h"
 #include "render/cpu_renderers.h"
@@ -168,6 +170,34 @@ TEST_F(RayTracingDevice, TheHitReorderNeedsItsExtension) {
     EXPECT_NE(std::string(e.what()).find(VK_NV_RAY_TRACING_INVOCATION_REORDER_EXTENSION_NAME), std::string::npos)
         << e.what();
   }
+}
+
+// The driver's box test must not cull a sphere the float test hits: every
+// box holds its sphere with room to spare, more the farther the camera.
+TEST(SphereBoxes, HoldTheirSpheresWithAPadThatGrowsWithTheCameraDistance) {
+  const Scene scene = loadNamedScene("random100");
+  const std::vector<gpu::SphereBox> near = gpu::paddedSphereBoxes(scene.spheres, 1.0f);
+  const std::vector<gpu::SphereBox> far = gpu::paddedSphereBoxes(scene.spheres, 1e5f);
+  ASSERT_EQ(near.size(), scene.spheres.size());
+  for (std::size_t i = 0; i < scene.spheres.size(); ++i) {
+    const Sphere& s = scene.spheres[i];
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_LT(near[i].lo[a], s.position[a] - s.radius) << i;
+      EXPECT_GT(near[i].hi[a], s.position[a] + s.radius) << i;
+      EXPECT_LT(far[i].lo[a], near[i].lo[a]) << i;
+    }
+  }
+}
+
+TEST(SphereBoxes, TheCameraBoundCoversItsOrbit) {
+  CameraSpec camera;
+  camera.position = {0.0, 0.0, -10.0};
+  camera.focusPoint = glm::dvec3(5.0, 0.0, 0.0);
+  camera.orbitVelocity = 1.0;
+  // 5 + |(-5, 0, -10)|: the orbit's radius about a focus 5 from the origin.
+  EXPECT_NEAR(gpu::cameraMaxCoordinate(camera), 5.0 + std::sqrt(125.0), 1e-4);
+  camera.orbitVelocity = 0.0;
+  EXPECT_EQ(gpu::cameraMaxCoordinate(camera), 10.0f);
 }
 
 class GpuRtAgreement : public RayTracingGpuTest {
