@@ -170,7 +170,7 @@ PhysicalDeviceChoice describe(vk::raii::PhysicalDevice physical, std::uint32_t i
 }
 
 // The extensions the ray-tracing pipeline renderer needs (VK_KHR_deferred_host_operations:
-// required by the acceleration structure extension), and those of them `physical` lacks.
+// required by the acceleration structure extension); the hit reorder's when asked for.
 std::vector<const char*> rayTracingExtensions(const ContextOptions& options) {
   std::vector<const char*> names;
   if (!options.rayTracing) return names;
@@ -180,20 +180,28 @@ std::vector<const char*> rayTracingExtensions(const ContextOptions& options) {
   return names;
 }
 
+// Refuses `physical` where it lacks one of them, naming what it lacks and what would do.
 void requireRayTracing(const vk::raii::PhysicalDevice& physical, const DeviceInfo& described,
                        const ContextOptions& options) {
   const auto available = physical.enumerateDeviceExtensionProperties();
   std::string missing;
+  bool pipelineMissing = false;
   for (const char* name : rayTracingExtensions(options)) {
-    if (!hasExtension(available, name)) missing += (missing.empty() ? "" : ", ") + std::string(name);
+    if (hasExtension(available, name)) continue;
+    missing += (missing.empty() ? "" : ", ") + std::string(name);
+    pipelineMissing = pipelineMissing || name != std::string_view(VK_NV_RAY_TRACING_INVOCATION_REORDER_EXTENSION_NAME);
   }
   if (missing.empty()) return;
-  throw DeviceUnavailable(
-      "device " + std::to_string(described.index) + " (" + described.name + ", " + described.driverInfo +
-      ") offers no " + missing + ": the ray-tracing pipeline renderer needs " +
-      (options.invocationReorder ? "them (--gpu-rt-reorder hit needs NVIDIA's reorder extension)" : "them") +
-      ". Mesa's lavapipe offers the KHR ones from Mesa 25 (Debian 13), not in Debian 12's 22.3; "
-      "use --gpu for the compute renderer");
+  const std::string device =
+      "device " + std::to_string(described.index) + " (" + described.name + ", " + described.driverInfo + ")";
+  if (pipelineMissing) {
+    throw DeviceUnavailable(device + " cannot run the ray-tracing pipeline renderer (--gpu-rt): it offers no " +
+                            missing +
+                            ". Mesa's lavapipe has them from Mesa 25 (Debian 13), not Debian 12's 22.3; "
+                            "--gpu runs the compute renderer on any Vulkan device");
+  }
+  throw DeviceUnavailable(device + " cannot reorder hits (--gpu-rt-reorder hit): it offers no " + missing +
+                          ", which NVIDIA's drivers have; --gpu-rt-reorder none runs without it");
 }
 
 vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, std::uint32_t queueFamily,
