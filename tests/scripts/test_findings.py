@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from synthetic_runs import Environment, SyntheticConfig, write_run_dir
 
-from rtbench import findings, report_writer
+from rtbench import findings, names, report_writer
 
 SCENE = "random100"
 # The thesis' random100 times (docs/thesis.md "Published results"), in seconds
@@ -51,11 +51,11 @@ def frames_around(ms: float, spread: float, n: int = 15) -> list[float]:
     return [ms * 3, *(ms * (1 + spread * k) for k in np.linspace(-1, 1, n))]
 
 
-def checked(tmp_path, times=None, spread=0.01, spreads=None, env=None, leave_out=()):
+def checked(tmp_path, times=None, spread=0.01, spreads=None, env=None, leave_out=(), counters=None):
     """The findings table of a synthetic run with `times` (ms by (renderer,
     stage); default the thesis'), each configuration's frames within +-spread
-    (`spreads` per configuration), less the configurations in `leave_out`;
-    by claim."""
+    (`spreads` per configuration), less the configurations in `leave_out`,
+    `counters` as write_run_dir takes them; by claim."""
     times = dict(THESIS_MS if times is None else times)
     spreads = spreads or {}
     runs = {
@@ -63,7 +63,7 @@ def checked(tmp_path, times=None, spread=0.01, spreads=None, env=None, leave_out
         for key, ms in times.items()
         if key not in leave_out and key[0] not in leave_out and key[1] not in leave_out
     }
-    run = write_run_dir(tmp_path / "run", runs, env=env)
+    run = write_run_dir(tmp_path / "run", runs, env=env, counters=counters)
     results = report_writer.compute(report_writer.gather([run], gpu_override=GPU_P))
     return {r["claim"]: r for r in results.findings.to_dict("records")}
 
@@ -170,6 +170,25 @@ def test_the_reason_names_optimisation_and_cores(tmp_path):
     )
     assert "built" not in o0["1"]["reason"]
     assert "16 logical cores" in o0["1"]["reason"]
+
+
+def lane_counters(frames: int, slots: int, active: int) -> dict[str, list]:
+    """Counter columns of `frames` frames in which every kind of lane work
+    had `slots` lane slots, `active` of them active."""
+    per_frame = {"rays": 100, "rays_per_depth": "60/40", "node_visits": 0, "sphere_tests": 50}
+    for kind_slots, kind_active in names.LANE_WORK.values():
+        per_frame[kind_slots], per_frame[kind_active] = slots, active
+    return {column: [value] * frames for column, value in per_frame.items()}
+
+
+def test_the_reason_names_the_masked_lane_work_where_the_run_has_counters(tmp_path):
+    times = dict(THESIS_MS)
+    times[("simd_tbb", "original")] = 38236 / 20
+    frames = len(frames_around(1.0, 0.01))
+    rows = checked(tmp_path, times, counters={config("simd_tbb", "original"): lane_counters(frames, 400, 100)})
+    assert "simd_tbb original masks off 75.0% of its lane work" in rows["1"]["reason"]
+    # Without counters the reason says nothing of lanes masked off.
+    assert "masks off" not in checked(tmp_path / "plain", times)["1"]["reason"]
 
 
 def test_the_report_has_the_section_and_its_csv(tmp_path):
