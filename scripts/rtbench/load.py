@@ -234,6 +234,8 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     frames[names.REPETITION] = repetition
     frames[names.CONFIG_ID] = config_id
     frames[names.BUILD_TYPE] = str(build.get(names.BUILD_TYPE, ""))
+    # The -O level behind build_type, which the thesis' findings name where ours differ (findings.py).
+    frames[names.META_BUILD_COMPILER_FLAGS] = str(build.get(names.META_BUILD_COMPILER_FLAGS) or "")
     frames[names.CPU_MODEL] = str(host.get(names.CPU_MODEL, ""))
     frames[names.LOGICAL_CORES] = int(host.get(names.LOGICAL_CORES) or 0)
     frames[names.GIT_COMMIT] = str(build.get(names.GIT_COMMIT, ""))

@@ -32,7 +32,21 @@ from pathlib import Path
 
 import pandas as pd
 
-from rtbench import archive, atomic, budget, configurations, load, metrics, names, noise, plots, stats, tables, thesis
+from rtbench import (
+    archive,
+    atomic,
+    budget,
+    configurations,
+    findings,
+    load,
+    metrics,
+    names,
+    noise,
+    plots,
+    stats,
+    tables,
+    thesis,
+)
 from rtbench.run_status import NOT_RUN, RunStatus
 
 TABLES_DIR = "tables"
@@ -67,6 +81,7 @@ class ReportResults:
     budgets: pd.DataFrame = field(default_factory=pd.DataFrame)  # frame-budget statistics (budget.summarize_budgets)
     occupancy: pd.DataFrame = field(default_factory=pd.DataFrame)  # lane counters (metrics.lane_occupancy), if any
     gpu_variants: pd.DataFrame = field(default_factory=pd.DataFrame)  # metrics.gpu_variants, if the run has them
+    findings: pd.DataFrame = field(default_factory=pd.DataFrame)  # the thesis' claims with verdicts (findings.evaluate)
     written: list[Path] = field(default_factory=list)
 
 
@@ -110,6 +125,10 @@ def compute(inputs: ReportInputs) -> ReportResults:
     startup = metrics.startup_times(inputs.frames)
     if not fits.empty and not startup.empty:
         built.append(tables.startup_vs_spheres(startup))
+    checked = findings.evaluate(
+        summary, inputs.frames, met, inputs.thesis_tables, thesis_metrics, tables.sizes(summary)[0], occupancy
+    )
+    built.append(findings.findings_table(checked))
     warnings = collect_warnings(inputs, summary)
     return ReportResults(
         summary,
@@ -123,6 +142,7 @@ def compute(inputs: ReportInputs) -> ReportResults:
         budgets=budgets,
         occupancy=occupancy,
         gpu_variants=variants,
+        findings=checked,
     )
 
 
@@ -258,6 +278,8 @@ def write_data(inputs: ReportInputs, results: ReportResults, out: Path) -> list[
         "outliers.csv": flagged[outlier_cols],
         "thesis_metrics.csv": results.thesis_metrics,
     }
+    if not results.findings.empty:
+        files["thesis_findings.csv"] = results.findings
     if not results.cost_fits.empty:
         files["cost_vs_spheres.csv"] = results.cost_fits
     files["budget.csv"] = results.budgets
@@ -328,6 +350,7 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         "## The thesis' tables 1-4, for our run\n",
         *(tables.to_markdown(t) for t in results.tables if t.slug.startswith("table")),
         _missing_tables_note(inputs.thesis_tables, results.tables),
+        _findings_section(by_slug),
         "## The thesis beside ours\n",
         tables.to_markdown(by_slug["thesis-vs-ours"]),
         _figure(figures, "thesis_speedups", "Speedups: thesis vs ours", out),
@@ -364,6 +387,23 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         _unfinished_section(inputs.run_dirs, inputs.manifests),
     ]
     return "\n".join(p for p in parts if p)
+
+
+def _findings_section(by_slug: dict[str, tables.Table]) -> str:
+    """Each of the thesis' claims as a predicate over this run, with its verdict (findings.py)."""
+    if "thesis-findings" not in by_slug:
+        return ""
+    return "\n".join([f"## {findings.TITLE}\n", FINDINGS_TEXT, tables.to_markdown(by_slug["thesis-findings"])])
+
+
+FINDINGS_TEXT = """What the thesis concluded from its tables (docs/thesis.md, "What the tables
+show"), each claim a figure of this run with its 95 % bootstrap CI, the region
+in which the claim holds, and a verdict; where ours differs, what in the
+run's metadata (optimisation, cores, vector width) or lane counters may say
+why. Compare the verdicts, not the times: the thesis measured at -O0 on an
+Apple M1. [`data/thesis_findings.csv`](data/thesis_findings.csv) has the
+figures at full precision.
+"""
 
 
 def _missing_tables_note(thesis_tables: pd.DataFrame, built: list[tables.Table]) -> str:

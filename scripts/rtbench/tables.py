@@ -185,7 +185,7 @@ def _lookup(df: pd.DataFrame, **match) -> pd.Series | None:
     return None if hits.empty else hits.iloc[0]
 
 
-def _describe_config(row: pd.Series) -> str:
+def describe_config(row: pd.Series) -> str:
     """'8 threads, 4 lanes NEON' for a CPU renderer (what it takes), the device for the others."""
     if not names.renders_on_cpu(row[names.RENDERER]):
         return row[names.DEVICE] or "device unknown"
@@ -211,8 +211,8 @@ def thesis_mirror(
         for renderer in spec.renderers:
             hit = _lookup(heads, **{names.SCENE: scene, names.RENDERER: renderer})
             row.append(fmt_ms(hit["median"]) if hit is not None else MISSING)
-            if hit is not None and _describe_config(hit):
-                used.setdefault(renderer, _describe_config(hit))
+            if hit is not None and describe_config(hit):
+                used.setdefault(renderer, describe_config(hit))
         rows.append(row)
     notes = [
         f"Median render_ms of the measured frames, {size[0]}x{size[1]}, stage {spec.stage}; "

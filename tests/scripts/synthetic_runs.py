@@ -78,6 +78,8 @@ class Environment:
     compiler: str = "GNU 12.2.0"
     git_commit: str = "a" * 40
     device: str = "llvmpipe (LLVM 15.0.6, 256 bits)"
+    build_type: str = "Release"
+    compiler_flags: str = "-O3"
     libraries: dict = field(default_factory=lambda: {"onetbb": "2021.8.0"})
 
 
@@ -148,9 +150,9 @@ def metadata(run_id: str, config: SyntheticConfig, warmup: int, measured: int, e
             "version": "0.0.0",
             "git_commit": env.git_commit,
             "git_dirty": False,
-            "build_type": "Release",
+            "build_type": env.build_type,
             "compiler": env.compiler,
-            "compiler_flags": "-O3",
+            "compiler_flags": env.compiler_flags,
             "nix": None,
         },
         "host": {"cpu_model": env.cpu_model, "logical_cores": env.logical_cores, "os": "Debian 12", "kernel": "Linux"},
