@@ -197,10 +197,10 @@ void CommandRunner::submitAndWait(std::string_view what) {
     // Lavapipe renders on the CPU: there a long wait is a frame too large for
     // it (the ray-tracing pipeline renderer's is linear in the spheres), not a hang.
     const bool lavapipe = device_.info().driverName == "llvmpipe";
-    throw DeviceError(std::string(what) + ": the Vulkan device did not finish within " +
-                      std::to_string(std::chrono::duration_cast<std::chrono::seconds>(kFenceTimeout).count()) + " s" +
-                      (lavapipe ? " (lavapipe renders on the CPU: a smaller image or scene, or --gpu, may finish)"
-                                : " (hung GPU?)"));
+    throw DeviceError(
+        std::string(what) + ": the Vulkan device did not finish within " +
+        std::to_string(std::chrono::duration_cast<std::chrono::seconds>(kFenceTimeout).count()) + " s" +
+        (lavapipe ? " (lavapipe renders on the CPU: a smaller image or scene, or --gpu, may finish)" : " (hung GPU?)"));
   }
   device_.logical().resetFences(*fence_);
 }
