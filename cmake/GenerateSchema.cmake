@@ -150,6 +150,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_json_names(gpu_schedules "${json}" gpu_schedules)
   rt_json_names(gpu_paths "${json}" gpu_paths)
   rt_json_names(gpu_rt_reorders "${json}" gpu_rt_reorders)
+  rt_json_names(precisions "${json}" precisions)
   rt_json_names(stages "${json}" stages)
   rt_json_names(partitions "${json}" partitions)
   rt_json_names(present_modes "${json}" present_modes)
@@ -170,6 +171,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_enum_block(b_gpu_schedules GpuSchedule "${gpu_schedules}")
   rt_enum_block(b_gpu_paths GpuPath "${gpu_paths}")
   rt_enum_block(b_gpu_rt_reorders GpuRtReorder "${gpu_rt_reorders}")
+  rt_enum_block(b_precisions Precision "${precisions}")
   rt_enum_block(b_stages Stage "${stages}")
   rt_enum_block(b_partitions Partition "${partitions}")
   rt_enum_block(b_present PresentMode "${present_modes}")
@@ -224,7 +226,7 @@ function(rt_generate_schema_header json_path header_path)
 "// Generated from schema/rt_schema.json by cmake/GenerateSchema.cmake. Do not edit.\n\
 #pragma once\n#include <array>\n#include <optional>\n#include <string_view>\n\nnamespace rt::schema {\n\n\
 inline constexpr int kVersion = ${version};\n\n\
-${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_accels}${b_traversals}${b_gpu_bvhs}${b_gpu_schedules}${b_gpu_paths}${b_gpu_rt_reorders}${b_stages}${b_partitions}${b_present}${b_swapchain_present}${b_columns}${b_meta}\
+${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_accels}${b_traversals}${b_gpu_bvhs}${b_gpu_schedules}${b_gpu_paths}${b_gpu_rt_reorders}${b_precisions}${b_stages}${b_partitions}${b_present}${b_swapchain_present}${b_columns}${b_meta}\
 ${b_kernels}${b_schedulers}${b_options}\
 inline constexpr std::array<std::string_view, ${n_options}> kRendererOptionFlags{\n${option_flags}};\n\n\
 // --lanes values besides 'native' (pixels per SIMD packet).\n\

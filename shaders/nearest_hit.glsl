@@ -77,14 +77,14 @@ RaycastHit nearestHitOfAll(Ray ray) {
   float best = 1.0 / 0.0;  // +infinity
   int bestIndex = -1;
   for (uint i = 0u; i < pc.sphereCount; ++i) {
-    float t = intersectSphere(ray, spheres[i].positionRadius);
+    float t = toFloat(intersectSphere(ray, toReal4(spheres[i].positionRadius)));
     if (COUNTERS) ++searchSpheres;
     if (t > EPS && t < best) {
       best = t;
       bestIndex = int(i);
     }
   }
-  return hitRecord(ray, best, bestIndex);
+  return hitRecord(ray, toReal(best), bestIndex);
 }
 
 
@@ -127,8 +127,8 @@ void beginSearch() {
 // `pad`, nearer than the best hit (+ pad): the CPU kernels' slab test; and
 // the distance at which it enters the box.
 bool boxReachable(vec3 lo, vec3 hi, Ray ray, vec3 inverse, float pad, out float entry) {
-  vec3 t0 = (lo - pad - ray.origin) * inverse;
-  vec3 t1 = (hi + pad - ray.origin) * inverse;
+  vec3 t0 = (lo - pad - toFloat3(ray.origin)) * inverse;
+  vec3 t1 = (hi + pad - toFloat3(ray.origin)) * inverse;
   vec3 near = min(t0, t1);
   vec3 far = max(t0, t1);
   entry = max(max(near.x, near.y), near.z);
@@ -144,7 +144,7 @@ int leafSphereIndex(uint k) { return WIDE_BVH ? wideIndex[k] : int(bvhOrder[k]);
 // tie goes to the lower index, so the visit order cannot change the hit.
 void testLeaf(Ray ray, uint first, uint count) {
   for (uint k = first; k < first + count; ++k) {
-    float t = intersectSphere(ray, leafSpheres[k]);
+    float t = toFloat(intersectSphere(ray, toReal4(leafSpheres[k])));
     if (t > EPS && t <= searchBest) {
       int index = leafSphereIndex(k);
       if (t < searchBest || index < searchBestIndex) {
@@ -171,8 +171,8 @@ bool leafTestedOrReachable(bool reach, uint child, uint count, Ray ray) {
 // a pop skips an entry the ray can no longer reach nearer than its best hit
 // (+ pad). One push per level: the tree's depth + 1 entries suffice.
 RaycastHit nearestHitInBvh(Ray ray) {
-  vec3 inverse = inverseDirection(ray.direction);
-  float pad = traversalPad(ray.origin);
+  vec3 inverse = inverseDirection(toFloat3(ray.direction));
+  float pad = traversalPad(toFloat3(ray.origin));
   uint stackNode[RT_BVH_MAX_DEPTH + 2];
   float stackEntry[RT_BVH_MAX_DEPTH + 2];
   int top = 0;
@@ -206,7 +206,7 @@ RaycastHit nearestHitInBvh(Ray ray) {
     }
     if (!popped) break;
   }
-  return hitRecord(ray, searchBest, searchBestIndex);
+  return hitRecord(ray, toReal(searchBest), searchBestIndex);
 }
 
 // The wide BVH (--gpu-bvh wide) ==============================================================
@@ -243,12 +243,12 @@ void pushWideChild(uint child, float entry) {
 // `pad` as boxReachable() widens a binary node's: which of them the ray may
 // meet nearer than the best hit + pad, and where it enters each.
 bvec4 wideBoxesReachable(uint base, uint upper, Ray ray, vec3 inverse, float pad, out vec4 entry) {
-  vec4 t0x = (uintBitsToFloat(wideNodes[base + 0u + upper]) - pad - ray.origin.x) * inverse.x;
-  vec4 t0y = (uintBitsToFloat(wideNodes[base + 2u + upper]) - pad - ray.origin.y) * inverse.y;
-  vec4 t0z = (uintBitsToFloat(wideNodes[base + 4u + upper]) - pad - ray.origin.z) * inverse.z;
-  vec4 t1x = (uintBitsToFloat(wideNodes[base + 6u + upper]) + pad - ray.origin.x) * inverse.x;
-  vec4 t1y = (uintBitsToFloat(wideNodes[base + 8u + upper]) + pad - ray.origin.y) * inverse.y;
-  vec4 t1z = (uintBitsToFloat(wideNodes[base + 10u + upper]) + pad - ray.origin.z) * inverse.z;
+  vec4 t0x = (uintBitsToFloat(wideNodes[base + 0u + upper]) - pad - toFloat(ray.origin.x)) * inverse.x;
+  vec4 t0y = (uintBitsToFloat(wideNodes[base + 2u + upper]) - pad - toFloat(ray.origin.y)) * inverse.y;
+  vec4 t0z = (uintBitsToFloat(wideNodes[base + 4u + upper]) - pad - toFloat(ray.origin.z)) * inverse.z;
+  vec4 t1x = (uintBitsToFloat(wideNodes[base + 6u + upper]) + pad - toFloat(ray.origin.x)) * inverse.x;
+  vec4 t1y = (uintBitsToFloat(wideNodes[base + 8u + upper]) + pad - toFloat(ray.origin.y)) * inverse.y;
+  vec4 t1z = (uintBitsToFloat(wideNodes[base + 10u + upper]) + pad - toFloat(ray.origin.z)) * inverse.z;
   entry = max(max(min(t0x, t1x), min(t0y, t1y)), min(t0z, t1z));
   vec4 leave = min(min(max(t0x, t1x), max(t0y, t1y)), max(t0z, t1z));
   uvec4 reach = uvec4(lessThanEqual(entry, leave)) * uvec4(greaterThanEqual(leave, vec4(-pad))) *
@@ -309,8 +309,8 @@ bool popWideChild(float pad, out uint child) {
 // argues. The stack holds at most seven children per level below the root
 // (WIDE_STACK_SIZE, from the tree's depth).
 RaycastHit nearestHitInWideBvh(Ray ray) {
-  vec3 inverse = inverseDirection(ray.direction);
-  float pad = traversalPad(ray.origin);
+  vec3 inverse = inverseDirection(toFloat3(ray.direction));
+  float pad = traversalPad(toFloat3(ray.origin));
   wideStackTop = 0;
   uint current = 0u;  // the root, an inner node
   bool haveCurrent = true;
@@ -322,7 +322,7 @@ RaycastHit nearestHitInWideBvh(Ray ray) {
       haveCurrent = visitWideNode(current, ray, inverse, pad, current);
     }
   }
-  return hitRecord(ray, searchBest, searchBestIndex);
+  return hitRecord(ray, toReal(searchBest), searchBestIndex);
 }
 
 // The one spatial query of the shader; the variant is fixed per pipeline.

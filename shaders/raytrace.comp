@@ -3,6 +3,9 @@
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
+#if RT_PRECISION_F16
+#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require
+#endif
 // The GPU renderer: the render model (render_model.glsl, nearest_hit.glsl)
 // traced by one of four pipelines of this shader (docs/render-model.md
 // section 3, "How the GPU renderer walks the BVH"):
@@ -13,7 +16,8 @@
 //   rays and queues the reflected ones (only the live ones with the bounce
 //   exit), and a last dispatch writes the image.
 // Every pipeline computes each pixel with the same operations in the same
-// order, so all of them give the same bytes.
+// order, so all of them give the same bytes. Built twice: RT_PRECISION_F16 1
+// computes the model in half precision (--precision f16, render_model.glsl).
 
 #include "bvh_layout.h"
 #include "gpu_interface.h"
@@ -146,7 +150,7 @@ bool insideImage(ivec2 pixel) { return pixel.x < pc.width && pixel.y < pc.height
 // The megakernel ==============================================================================
 void renderPixel(ivec2 pixel) {
   Ray ray = primaryRay(pixel);
-  vec3 color = TWO_PASS ? traceTwoPass(ray) : traceSinglePass(ray);
+  real3 color = TWO_PASS ? traceTwoPass(ray) : traceSinglePass(ray);
   imageStore(outputImage, pixel, toRgba8(color));
 }
 
@@ -162,7 +166,7 @@ Ray queuedRay(int depth, uint slot, out uint number) {
   vec4 origin = (depth & 1) == 0 ? queueEven[slot].originRay : queueOdd[slot].originRay;
   vec4 direction = (depth & 1) == 0 ? queueEven[slot].direction : queueOdd[slot].direction;
   number = floatBitsToUint(origin.w);
-  return Ray(origin.xyz, direction.xyz);
+  return Ray(toReal3(origin.xyz), toReal3(direction.xyz));
 }
 
 // Queues `ray` (number `number`) for depth + 1. The subgroup's invocations
@@ -178,7 +182,7 @@ void queueRay(int depth, Ray ray, uint number) {
     atomicMax(controlWords[controlWord(depth + 1, RT_CONTROL_GROUPS_Y)], (base + count + raysPerRow - 1u) / raysPerRow);
   }
   uint slot = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(queuing);
-  QueuedRay queued = QueuedRay(vec4(ray.origin, uintBitsToFloat(number)), vec4(ray.direction, 0.0));
+  QueuedRay queued = QueuedRay(vec4(toFloat3(ray.origin), uintBitsToFloat(number)), vec4(toFloat3(ray.direction), 0.0));
   if (((depth + 1) & 1) == 0) {
     queueEven[slot] = queued;
   } else {
@@ -189,24 +193,24 @@ void queueRay(int depth, Ray ray, uint number) {
 // The single-pass algorithm's step at `depth` for one path: traceSinglePass's
 // loop body, with the colour and throughput kept in the path's state.
 void stepSinglePass(int depth, Ray ray, uint number) {
-  vec3 color = vec3(0.0);
-  vec3 throughput = vec3(1.0);
+  real3 color = real3(0.0);
+  real3 throughput = real3(1.0);
   if (depth > 0) {
-    color = pathStates[number].color.rgb;
-    throughput = pathStates[number].throughput.rgb;
+    color = toReal3(pathStates[number].color.rgb);
+    throughput = toReal3(pathStates[number].throughput.rgb);
   }
   RaycastHit hit = nearestHit(ray);
   endSearch(depth, hit.sphere >= 0);
   bool goesOn = depth + 1 < MAX_DEPTH;
   if (hit.sphere < 0) {
-    color += throughput * pc.background;
+    color += throughput * toReal3(pc.background);
     // Without the early exit the dead ray is traced again and adds nothing.
-    throughput = vec3(0.0);
+    throughput = real3(0.0);
     goesOn = goesOn && !BOUNCE_EXIT;
   } else {
     shadeBounce(hit, ray, color, throughput);
   }
-  pathStates[number] = PathState(vec4(color, 0.0), vec4(throughput, 0.0));
+  pathStates[number] = PathState(vec4(toFloat3(color), 0.0), vec4(toFloat3(throughput), 0.0));
   if (goesOn) queueRay(depth, ray, number);
 }
 
@@ -217,7 +221,7 @@ void stepTwoPass(int depth, Ray ray, uint number) {
   endSearch(depth, hit.sphere >= 0);
   uint rayCapacity = rayCount();
   segments[uint(depth) * rayCapacity + number] =
-      StoredSegment(vec4(ray.direction, intBitsToFloat(hit.sphere)), vec4(hit.normal, 0.0));
+      StoredSegment(vec4(toFloat3(ray.direction), intBitsToFloat(hit.sphere)), vec4(toFloat3(hit.normal), 0.0));
   pathStates[number].color.w = uintBitsToFloat(uint(depth + 1));
   bool goesOn = depth + 1 < MAX_DEPTH;
   if (hit.sphere < 0) {
@@ -250,17 +254,17 @@ void traceQueuedRay(uint slot) {
 
 // The wavefront's last dispatch: the pixel's colour (single-pass), or the
 // backward pass over its stored segments (two-pass), as traceTwoPass folds them.
-vec3 resolvedColor(uint number) {
-  if (!TWO_PASS) return pathStates[number].color.rgb;
+real3 resolvedColor(uint number) {
+  if (!TWO_PASS) return toReal3(pathStates[number].color.rgb);
   int count = int(floatBitsToUint(pathStates[number].color.w));
   uint rayCapacity = rayCount();
-  vec3 acc = vec3(0.0);
+  real3 acc = real3(0.0);
   for (int i = count - 1; i >= 0; --i) {
     StoredSegment stored = segments[uint(i) * rayCapacity + number];
     PathSegment s;
-    s.ray = Ray(vec3(0.0), stored.directionSphere.xyz);
-    s.hit = RaycastHit(vec3(0.0), stored.normal.xyz, floatBitsToInt(stored.directionSphere.w));
-    s.sphereColor = s.hit.sphere < 0 ? vec3(0.0) : spheres[s.hit.sphere].colorPad.rgb;
+    s.ray = Ray(real3(0.0), toReal3(stored.directionSphere.xyz));
+    s.hit = RaycastHit(real3(0.0), toReal3(stored.normal.xyz), floatBitsToInt(stored.directionSphere.w));
+    s.sphereColor = s.hit.sphere < 0 ? real3(0.0) : toReal3(spheres[s.hit.sphere].colorPad.rgb);
     acc = foldSegment(acc, s);
   }
   return acc;

@@ -46,6 +46,7 @@ GENERATED = {
     "rt_schema.h",
     "rt_schema_metadata.h",
     "raytrace_spirv.h",
+    "raytrace_f16_spirv.h",
     "raytrace_rgen_spirv.h",
     "raytrace_rgen_reorder_spirv.h",
     "sphere_rint_spirv.h",

@@ -70,6 +70,7 @@ struct RawOptions {
   CLI::Option* hybridThresholdOption = nullptr;
   bool counters = false;
   std::string gpuBvh, gpuSchedule, gpuPath, gpuRtReorder;
+  std::string precision;
   std::string lanes = "native";
   std::string partition;
   std::string csv, meta, present;
@@ -121,6 +122,12 @@ bool counts(const schema::RendererDefinition& d) {
 std::string countingFlags() { return flagsOf(counts); }
 
 std::string gpuFlag() { return std::string(definitionOf(RendererKind::gpu).flag); }
+
+// The renderers of the thesis' half-precision experiment (docs/render-model.md
+// section 10): the SIMD kernel's and the GPU renderer.
+bool computesInHalf(const schema::RendererDefinition& d) {
+  return d.kernel == Kernel::simd || &d == &definitionOf(RendererKind::gpu);
+}
 std::string gpuRtFlag() { return std::string(definitionOf(RendererKind::gpu_rt).flag); }
 
 // The renderer options only mean something to the renderers whose schema
@@ -283,6 +290,14 @@ void addDeviceOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
 }
 
 void addRunOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
+  app.add_option("--precision", raw.precision,
+                 "the type of the render model's arithmetic: " + joinNames(schema::kPrecisionNames, "|") +
+                     " (default f32); f16, the thesis' half-precision experiment, for " + flagsOf(computesInHalf) +
+                     " where the CPU's SIMD target or the Vulkan device computes in f16")
+      ->check(CLI::IsMember(namesOf(schema::kPrecisionNames)));
+  app.add_flag("--agreement", config.agreement,
+               "after the frames, compare frame 0 with the double-precision reference (metadata agreement: share "
+               "within 2/255, PSNR)");
   app.add_flag("--quiet,-q", config.quiet, "print nothing but errors");
   app.add_flag("--tracy-wait", config.tracyWait,
                "wait for a Tracy viewer (127.0.0.1, port TRACY_PORT or 8086) before the first frame");
@@ -394,6 +409,18 @@ void applyGpuOptions(const RawOptions& raw, RunConfig& config) {
   }
 }
 
+// f32 is what every renderer computes in; f16 only the renderers of the
+// experiment take, and they refuse it where the hardware lacks f16 arithmetic.
+void applyPrecision(const RawOptions& raw, RunConfig& config) {
+  if (raw.precision.empty()) return;
+  config.options.precision = *enumByName<Precision>(schema::kPrecisionNames, raw.precision);
+  if (config.options.precision != Precision::f32 && !computesInHalf(definitionOf(config.renderer))) {
+    throw CLI::ValidationError("--precision", "--precision " + raw.precision + " applies to " +
+                                                  flagsOf(computesInHalf) + "; renderer " +
+                                                  std::string(nameOf(config.renderer)) + " computes in f32 only");
+  }
+}
+
 void applyWindowOptions(const RawOptions& raw, RunConfig& config) {
   if (raw.window) {
     if (config.present && config.present != PresentMode::window) {
@@ -472,6 +499,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     applyModelOptions(raw, config);
     applyTraversalOptions(raw, config);
     applyGpuOptions(raw, config);
+    applyPrecision(raw, config);
     applyWindowOptions(raw, config);
     applyOutputs(raw, config);
   } catch (const CLI::CallForHelp&) {

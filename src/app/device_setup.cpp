@@ -26,7 +26,8 @@ DeviceSetup setUpDevice(const RunConfig& config, std::ostream& notes) {
       .deviceSelector = config.device,
       .validation = config.vkValidation,
       .rayTracing = rayTracing,
-      .invocationReorder = rayTracing && config.options.gpuRtReorder == GpuRtReorder::hit};
+      .invocationReorder = rayTracing && config.options.gpuRtReorder == GpuRtReorder::hit,
+      .shaderFloat16 = config.renderer == RendererKind::gpu && config.options.precision == Precision::f16};
 #if RT_WINDOW
   if (config.windowed()) {
     auto window = WindowSession::open(config, options);

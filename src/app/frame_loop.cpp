@@ -64,6 +64,7 @@ void plotCounters(const FrameCounters& counters) {
 FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config, LiveView* view) {
   FrameLoopResult result;
   result.savedFrames.assign(config.saveFrames.size(), SavedFrame{Image(config.extent)});
+  if (config.agreement) result.agreementFrame.image = Image(config.extent);
   const bool untilClosed = config.untilClosed() && view != nullptr;
   const bool counting = config.options.counters;
   FrameRecorder recorder(static_cast<std::size_t>(untilClosed ? kUntilClosedRecordCapacity : config.totalFrames()),
@@ -108,6 +109,10 @@ FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunCo
         if (config.saveFrames[i].frame != k) continue;
         renderer.readPresented(result.savedFrames[i].image);
         result.savedFrames[i].filled = true;
+      }
+      if (config.agreement && k == 0) {
+        renderer.readPresented(result.agreementFrame.image);
+        result.agreementFrame.filled = true;
       }
       FrameMark;
     }

@@ -22,6 +22,7 @@ struct FrameLoopResult {
   std::vector<FrameRecord> records;     // the frames that completed
   std::vector<FrameCounters> counters;  // --counters: one per record (renderer.lastCounters()); else empty
   std::vector<SavedFrame> savedFrames;  // one per config.saveFrames entry, same order
+  SavedFrame agreementFrame;            // --agreement: animation frame 0 (empty image otherwise)
   std::exception_ptr failure;           // set when a frame threw; records keep what was done
 };
 

@@ -94,6 +94,7 @@ void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id,
     case FrameCsvColumn::gpu_rt_reorder:
       if (id.renderer.gpuRtReorder) appendText(out, nameOf(*id.renderer.gpuRtReorder));
       return;
+    case FrameCsvColumn::precision: return appendText(out, nameOf(id.renderer.precision));
     case FrameCsvColumn::width: return appendText(out, std::to_string(id.extent.width));
     case FrameCsvColumn::height: return appendText(out, std::to_string(id.extent.height));
     case FrameCsvColumn::present: return appendText(out, nameOf(id.present));

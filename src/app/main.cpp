@@ -21,6 +21,7 @@
 #include "core/profiler.h"
 #include "gpu/present/window_presentation.h"
 #include "gpu/vulkan/context.h"
+#include "render/scalar/double_reference.h"
 #if RT_WINDOW
 #include "app/window_session.h"
 #endif
@@ -30,14 +31,14 @@ namespace {
 
 void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, const rt::Scene& scene,
                   const rt::FrameLoopResult& result, const rt::RunTimes& times,
-                  const std::optional<rt::WindowOutcome>& window) {
+                  const std::optional<rt::WindowOutcome>& window, const std::optional<rt::ImageAgreement>& agreement) {
   if (config.csvPath) {
     rt::writeFileAtomically(*config.csvPath, rt::formatFrameCsv(identity, result.records, result.counters));
   }
   if (const auto meta = rt::metadataPathFor(config)) {
     const auto laneCounters = rt::measuredCounterTotals(result.records, result.counters);
-    rt::writeFileAtomically(*meta,
-                            rt::makeRunMetadata(config, identity, scene, times, window, laneCounters).dump(2) + "\n");
+    rt::writeFileAtomically(
+        *meta, rt::makeRunMetadata(config, identity, scene, times, window, laneCounters, agreement).dump(2) + "\n");
   }
   for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
     if (result.savedFrames[i].filled) rt::writePng(result.savedFrames[i].image, config.saveFrames[i].file);
@@ -46,6 +47,19 @@ void writeOutputs(const rt::RunConfig& config, const rt::RunIdentity& identity, 
 
 // Where the lines of slow start-up stages go: stderr, nowhere with --quiet.
 std::ostream* progressStream(const rt::RunConfig& config) { return config.quiet ? nullptr : &std::cerr; }
+
+// --agreement: frame 0 against the double-precision reference (docs/render-model.md
+// section 8), after the timed frames; nothing where the run ended before frame 0.
+std::optional<rt::ImageAgreement> agreementWithReference(const rt::RunConfig& config, const rt::Scene& scene,
+                                                         const rt::SavedFrame& frame) {
+  if (!config.agreement || !frame.filled) return std::nullopt;
+  rt::StageProgress stage("comparing frame 0 with the double-precision reference", progressStream(config));
+  const rt::Image reference =
+      rt::renderDoubleReference(scene, rt::cameraAtFrame(scene.camera, 0), config.extent, config.options);
+  const rt::ImageAgreement agreement = rt::compareImages(frame.image, reference);
+  stage.finish();
+  return agreement;
+}
 
 // "scenes/x.json (125 MB)"; a pipe's size is not known before it is read.
 std::string describeSceneFile(const std::filesystem::path& path) {
@@ -73,6 +87,8 @@ std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) 
          (id.renderer.gpuSchedule ? " gpu_schedule=" + std::string(rt::nameOf(*id.renderer.gpuSchedule)) : "") +
          (id.renderer.gpuPath ? " gpu_path=" + std::string(rt::nameOf(*id.renderer.gpuPath)) : "") +
          (id.renderer.gpuRtReorder ? " gpu_rt_reorder=" + std::string(rt::nameOf(*id.renderer.gpuRtReorder)) : "") +
+         (id.renderer.precision != rt::Precision::f32 ? " precision=" + std::string(rt::nameOf(id.renderer.precision))
+                                                      : "") +
          (id.options.counters ? " counters" : "") + " frames=" + std::to_string(config.warmupFrames) + "+" +
          std::to_string(config.measuredFrames) + " present=" + std::string(rt::nameOf(id.present)) +
          (id.device ? " device=" + id.device->name : "");
@@ -134,7 +150,8 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
 #endif
 
   // Frames that completed are written even when a later one failed.
-  writeOutputs(config, identity, scene, result, times, window);
+  const auto agreement = agreementWithReference(config, scene, result.agreementFrame);
+  writeOutputs(config, identity, scene, result, times, window, agreement);
   if (result.failure) std::rethrow_exception(result.failure);
   if (!config.quiet) std::cout << rt::formatRunSummary(identity, rt::summarizeRun(identity.extent, result.records));
   return setup.present.device ? setup.present.device->validationCounter() : nullptr;

@@ -29,6 +29,8 @@ int runProgram(std::string_view program, int argc, char** argv, const std::funct
     return fail("", e, kExitBadInput);
   } catch (const gpu::WindowUnavailable& e) {
     return fail("no window: ", e, kExitNoDevice);
+  } catch (const gpu::FeatureUnavailable& e) {
+    return fail("", e, kExitBadInput);
   } catch (const gpu::DeviceUnavailable& e) {
     return fail("no Vulkan device: ", e, kExitNoDevice);
   } catch (const gpu::DeviceError& e) {

@@ -27,6 +27,9 @@ struct RunConfig {
   std::optional<std::filesystem::path> csvPath;
   std::optional<std::filesystem::path> metaPath;
   std::vector<SaveFrameRequest> saveFrames;
+  // --agreement: frame 0's image is compared with the double-precision
+  // reference after the frames, into the metadata (docs/render-model.md section 8).
+  bool agreement = false;
   bool quiet = false;
   bool tracyWait = false;  // wait for a Tracy viewer before the first frame
   std::vector<std::string> commandLine;

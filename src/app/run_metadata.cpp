@@ -2,6 +2,7 @@
 
 #include <sys/utsname.h>
 
+#include <cmath>
 #include <concepts>
 #include <cstdint>
 #include <cstdlib>
@@ -153,6 +154,8 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
       case Key::gpu_schedule: return r.gpuSchedule ? nameOf(*r.gpuSchedule) : "";
       case Key::gpu_path: return r.gpuPath ? nameOf(*r.gpuPath) : "";
       case Key::gpu_rt_reorder: return r.gpuRtReorder ? nameOf(*r.gpuRtReorder) : "";
+      case Key::precision: return nameOf(r.precision);
+      case Key::agreement: return config.agreement;
       case Key::counters: return id.options.counters;
       case Key::width: return id.extent.width;
       case Key::height: return id.extent.height;
@@ -203,6 +206,24 @@ nlohmann::json laneCountersJson(const std::optional<LaneCounters>& counters) {
       case Key::shade_lanes_active: return c.shadeLanesActive;
     }
     unhandledKey("lane_counters");
+  });
+}
+
+nlohmann::json agreementJson(const std::optional<ImageAgreement>& agreement) {
+  if (!agreement) return nullptr;
+  const ImageAgreement& a = *agreement;
+  using Key = schema::MetadataAgreementKey;
+  return objectOf<Key>(schema::kMetadataAgreementKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::reference: return "double";
+      case Key::frame: return 0;
+      case Key::tolerance: return ImageAgreement::kChannelTolerance;
+      case Key::within_tolerance: return a.fractionWithinTolerance;
+      // JSON has no infinity: identical images have no PSNR.
+      case Key::psnr_db: return std::isfinite(a.psnrDb) ? nlohmann::json(a.psnrDb) : nullptr;
+      case Key::max_channel_difference: return a.maxChannelDifference;
+    }
+    unhandledKey("agreement");
   });
 }
 
@@ -301,7 +322,8 @@ std::string makeRunId(std::chrono::system_clock::time_point startedAt) {
 
 nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& identity, const Scene& scene,
                                const RunTimes& times, const std::optional<WindowOutcome>& window,
-                               const std::optional<LaneCounters>& laneCounters) {
+                               const std::optional<LaneCounters>& laneCounters,
+                               const std::optional<ImageAgreement>& agreement) {
   nlohmann::json meta = nlohmann::json::object();
   for (std::size_t i = 0; i < schema::kRunMetadataKeyNames.size(); ++i) {
     const auto key = static_cast<RunMetadataKey>(i);
@@ -321,6 +343,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::prepare_ms: value = times.prepareMs; break;
       case RunMetadataKey::accel_structure: value = accelStructureJson(identity.renderer); break;
       case RunMetadataKey::lane_counters: value = laneCountersJson(laneCounters); break;
+      case RunMetadataKey::agreement: value = agreementJson(agreement); break;
       case RunMetadataKey::device: value = deviceJson(identity); break;
       case RunMetadataKey::window: value = windowJson(window); break;
     }

@@ -6,6 +6,7 @@
 
 #include "app/run_config.h"
 #include "app/run_identity.h"
+#include "core/image.h"
 #include "gpu/present/window_presentation.h"
 #include "render/lane_counters.h"
 #include "scene/scene.h"
@@ -32,9 +33,11 @@ std::string makeRunId(std::chrono::system_clock::time_point startedAt);
 std::string formatRfc3339(std::chrono::system_clock::time_point t);
 
 // The JSON sidecar: every key of the schema's run_metadata list.
-// `laneCounters`: the measured frames' --counters totals (measuredCounterTotals).
+// `laneCounters`: the measured frames' --counters totals (measuredCounterTotals);
+// `agreement`: --agreement's comparison of frame 0 with the double reference.
 nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& identity, const Scene& scene,
                                const RunTimes& times, const std::optional<WindowOutcome>& window = std::nullopt,
-                               const std::optional<LaneCounters>& laneCounters = std::nullopt);
+                               const std::optional<LaneCounters>& laneCounters = std::nullopt,
+                               const std::optional<ImageAgreement>& agreement = std::nullopt);
 
 }  // namespace rt

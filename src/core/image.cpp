@@ -26,7 +26,7 @@
 namespace rt {
 namespace {
 // docs/render-model.md section 8: the agreement thresholds between two renderers.
-constexpr int kChannelTolerance = 2;
+constexpr int kChannelTolerance = ImageAgreement::kChannelTolerance;
 constexpr double kMinFractionWithinTolerance = 0.995;
 constexpr double kMinPsnrDb = 40.0;
 // The rule at scale: pixels only reflected rays change, at most this share

@@ -48,8 +48,9 @@ Image readPng(const std::filesystem::path& path);
 
 // How closely two images agree (docs/render-model.md section 8).
 struct ImageAgreement {
-  double fractionWithinTolerance = 0.0;  // pixels whose every channel differs by <= 2/255
-  double psnrDb = 0.0;                   // infinity for identical images
+  static constexpr int kChannelTolerance = 2;  // in 1/255 steps
+  double fractionWithinTolerance = 0.0;        // pixels whose every channel differs by <= 2/255
+  double psnrDb = 0.0;                         // infinity for identical images
   int maxChannelDifference = 0;
   [[nodiscard]] bool agrees() const;  // >= 99.5 % within tolerance and >= 40 dB
 };

@@ -16,6 +16,7 @@ using schema::GpuRtReorder;
 using schema::GpuSchedule;
 using schema::Kernel;
 using schema::Partition;
+using schema::Precision;
 using schema::PresentMode;
 using schema::RendererKind;
 using schema::RendererOption;
@@ -63,6 +64,10 @@ struct RenderOptions {
   // The gpu_rt renderer: reorder invocations by hit before shading
   // (VK_NV_ray_tracing_invocation_reorder); never changes the image.
   GpuRtReorder gpuRtReorder = GpuRtReorder::none;
+  // The floating-point type of the render model's arithmetic: f16 is the
+  // thesis' half-precision experiment (docs/render-model.md section 10),
+  // which changes the image; the SIMD renderers and the GPU renderer only.
+  Precision precision = Precision::f32;
   // --counters: the SIMD kernel (and the GPU renderer) tallies rays, node visits, sphere tests and
   // lane occupancy per frame (LaneCounters); off, the kernel compiled without them runs.
   bool counters = false;

@@ -41,6 +41,8 @@ struct RendererInfo {
   std::optional<GpuPath> gpuPath{};
   // The gpu_rt renderer's hit reorder; empty elsewhere.
   std::optional<GpuRtReorder> gpuRtReorder{};
+  // The type of the render model's arithmetic (docs/render-model.md section 10).
+  Precision precision = Precision::f32;
 };
 
 // One of the thesis' interchangeable renderers. The interface is virtual

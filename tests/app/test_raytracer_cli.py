@@ -471,3 +471,48 @@ def test_a_gpu_run_with_counters_fills_the_counter_columns(raytracer, repo_root,
     assert totals is not None
     assert totals["rays"] == sum(int(r["rays"]) for r in measured)
     assert totals["sphere_tests"] == sum(int(r["sphere_tests"]) for r in measured)
+
+
+# --precision and --agreement (docs/render-model.md sections 8 and 10) =======================
+EXIT_BAD_INPUT = 2
+
+
+@pytest.mark.parametrize("renderer", ["--sequential", "--tbb-only", "--embree", "--gpu-rt"])
+def test_half_precision_is_refused_by_the_renderers_outside_the_experiment(raytracer, repo_root, renderer):
+    done = run(raytracer, renderer, "--precision", "f16", repo_root / "scenes/random20.json", *SMALL)
+    assert done.returncode == EXIT_BAD_INPUT, done.stderr
+    assert "--precision f16 applies to --simd, --simd-only and --gpu" in done.stderr
+
+
+@pytest.mark.parametrize("renderer", ["--simd", "--simd-only"])
+def test_the_simd_renderers_refuse_half_precision_naming_the_targets_that_have_it(
+    raytracer, repo_root, renderer, tmp_path
+):
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, renderer, "--precision", "f16", repo_root / "scenes/random20.json", *SMALL, "--csv", csv_path)
+    assert done.returncode == EXIT_BAD_INPUT, done.stderr
+    assert re.search(r"this CPU's: [A-Z0-9_]+\)", done.stderr), done.stderr
+    assert "AVX3_SPR" in done.stderr and "NEON" in done.stderr
+    assert not csv_path.exists(), "nothing rendered, nothing written"
+
+
+def test_every_renderer_records_f32_and_no_agreement_by_default(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, "--simd-only", repo_root / "scenes/random20.json", *SMALL, "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    with csv_path.open(newline="") as f:
+        assert {r["precision"] for r in csv.DictReader(f)} == {"f32"}
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    assert meta["config"]["precision"] == "f32" and meta["config"]["agreement"] is False
+    assert meta["agreement"] is None
+
+
+def test_agreement_compares_frame_zero_with_the_double_reference(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    args = [repo_root / "scenes/random20.json", *SMALL, "--present", "none", "--agreement"]
+    done = run(raytracer, "--sequential", *args, "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    agreement = json.loads((tmp_path / "run.meta.json").read_text())["agreement"]
+    assert agreement["reference"] == "double" and agreement["frame"] == 0 and agreement["tolerance"] == 2
+    # The sequential renderer agrees under section 8 (test_gpu_cli.py checks that f16 does not).
+    assert agreement["within_tolerance"] >= 0.995 and agreement["max_channel_difference"] <= 2

@@ -219,3 +219,41 @@ def test_gpu_rt_options_are_refused_where_they_do_not_apply(raytracer, repo_root
     done = run(raytracer, *args, repo_root / "scenes/random20.json", *SMALL)
     assert done.returncode == EXIT_BAD_INPUT, done.stderr
     assert args[1] in done.stderr, "the message names the option"
+
+
+# Half precision (--precision f16, docs/render-model.md section 10) ===========================
+def offers_shader_float16():
+    """Whether the default device offers shaderFloat16, asked of vulkaninfo."""
+    done = subprocess.run(["vulkaninfo"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    device = re.split(r"^GPU\d+:$", done.stdout, flags=re.M)[1]
+    found = re.search(r"^\s*shaderFloat16\s*=\s*(true|false)", device, re.M)
+    assert found, "vulkaninfo names shaderFloat16 for the device"
+    return found.group(1) == "true"
+
+
+def test_gpu_half_precision_runs_validated_and_records_its_agreement(raytracer, repo_root, tmp_path):
+    csv_path = tmp_path / "run.csv"
+    args = ["--gpu", repo_root / "scenes/random20.json", *SMALL, "--vk-validation", "--agreement"]
+    done = run(raytracer, *args, "--precision", "f16", "--csv", csv_path)
+    if not offers_shader_float16():
+        assert done.returncode == EXIT_BAD_INPUT, done.stderr
+        assert "shaderFloat16" in done.stderr and "--precision f16" in done.stderr
+        assert not csv_path.exists(), "nothing rendered, nothing written"
+        return
+    assert done.returncode == 0, done.stderr
+    assert {r["precision"] for r in read_csv(csv_path)} == {"f16"}
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    assert meta["config"]["precision"] == "f16" and meta["config"]["agreement"] is True
+    half = meta["agreement"]
+    assert half["reference"] == "double" and half["frame"] == 0 and half["tolerance"] == 2
+
+    full_csv = tmp_path / "full.csv"
+    done = run(raytracer, *args, "--csv", full_csv)
+    assert done.returncode == 0, done.stderr
+    assert {r["precision"] for r in read_csv(full_csv)} == {"f32"}
+    full = json.loads((tmp_path / "full.meta.json").read_text())["agreement"]
+    # The f32 frame agrees under section 8; the f16 one falls short of it.
+    assert full["within_tolerance"] >= 0.995 and full["psnr_db"] >= 40
+    assert half["within_tolerance"] < full["within_tolerance"] and half["psnr_db"] < 40
+    assert half["max_channel_difference"] > full["max_channel_difference"]

@@ -284,7 +284,7 @@ struct GPURenderer::SceneObjects {
         extent(e),
         accel(accelFor(s, o)),
         wide(wideBvhFor(s, o, accel.bvh())),
-        pipeline(d, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
+        pipeline(d, o.precision, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
         spheres(uploadStorage(d, runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
         bvhBuffers(accel.bvh()
                        ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s.spheres, wide ? &*wide : nullptr)
@@ -429,6 +429,7 @@ RendererInfo GPURenderer::info() const {
   if (scene_->accel.bvh()) info.gpuBvh = scene_->options.gpuBvh;
   info.gpuSchedule = scene_->options.gpuSchedule;
   info.gpuPath = scene_->options.gpuPath;
+  info.precision = scene_->options.precision;
   return info;
 }
 

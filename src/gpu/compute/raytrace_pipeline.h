@@ -6,12 +6,14 @@
 
 #include "gpu/compute/gpu_layout.h"
 #include "gpu/vulkan/resources.h"
+#include "render/render_options.h"
 
 namespace rt::gpu {
 
 // The SPIR-V of shaders/raytrace.comp, compiled at build time and linked
-// into the binary: nothing is looked up on disk at run time.
-std::span<const std::uint32_t> raytraceSpirv();
+// into the binary: nothing is looked up on disk at run time. One build per
+// precision: f16 computes the render model in float16_t (needs shaderFloat16).
+std::span<const std::uint32_t> raytraceSpirv(Precision precision);
 
 // Workgroups needed to cover `pixels` with groups of `groupSize`: rounded
 // up, the shader skips the overhang.
@@ -27,13 +29,15 @@ enum class RaytraceStage : std::int32_t {
   wavefrontResolve = RT_STAGE_WAVEFRONT_RESOLVE,
 };
 
-// The compute pipelines of one variant (algorithm, bounce exit, maxDepth,
-// the BVH, the schedule and the counters as specialization constants), one
-// per stage it runs, with their shared set and pipeline layouts.
+// The compute pipelines of one variant (the precision's SPIR-V; algorithm,
+// bounce exit, maxDepth, the BVH, the schedule and the counters as
+// specialization constants), one per stage it runs, with their shared set
+// and pipeline layouts.
 class RaytracePipeline {
  public:
   // Builds the pipelines of `stages` from `constants` (its stage field is set per pipeline).
-  RaytracePipeline(const Device& device, SpecializationConstants constants, std::span<const RaytraceStage> stages);
+  RaytracePipeline(const Device& device, Precision precision, SpecializationConstants constants,
+                   std::span<const RaytraceStage> stages);
 
   [[nodiscard]] const vk::raii::DescriptorSetLayout& setLayout() const { return setLayout_; }
   // Binds the pipeline of `stage` and `set`, and pushes this frame's constants.

@@ -32,6 +32,10 @@ struct ContextOptions {
   // refused (DeviceUnavailable), as a missing device is.
   bool rayTracing = false;
   bool invocationReorder = false;
+  // The compute renderer in half precision (--precision f16): the device
+  // must offer shaderFloat16 (Vulkan 1.2), which is enabled; a device
+  // without it is refused with FeatureUnavailable.
+  bool shaderFloat16 = false;
   [[nodiscard]] bool presents() const { return !surfaceExtensions.empty(); }
 };
 

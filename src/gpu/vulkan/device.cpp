@@ -204,6 +204,16 @@ void requireRayTracing(const vk::raii::PhysicalDevice& physical, const DeviceInf
                           ", which NVIDIA's drivers have; --gpu-rt-reorder none runs without it");
 }
 
+// Refuses `physical` where the run needs shaderFloat16 and it lacks it.
+void requireShaderFloat16(const vk::raii::PhysicalDevice& physical, const DeviceInfo& described) {
+  const auto features = physical.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features>();
+  if (features.get<vk::PhysicalDeviceVulkan12Features>().shaderFloat16) return;
+  throw FeatureUnavailable("device " + std::to_string(described.index) + " (" + described.name + ", " +
+                           described.driverInfo +
+                           ") offers no shaderFloat16: the GPU renderer cannot compute in half precision "
+                           "(--precision f16) there; --precision f32 runs on any Vulkan device");
+}
+
 vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, std::uint32_t queueFamily,
                                      const DeviceInfo& described, const ContextOptions& options) {
   const bool swapchain = options.presents();
@@ -222,6 +232,7 @@ vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, s
     }
     extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   }
+  if (options.shaderFloat16) requireShaderFloat16(physical, described);
   if (options.rayTracing) {
     requireRayTracing(physical, described, options);
     const auto needed = rayTracingExtensions(options);
@@ -234,13 +245,14 @@ vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, s
                                  .pQueueCreateInfos = &queue,
                                  .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),
                                  .ppEnabledExtensionNames = extensions.data()},
-            vk::PhysicalDeviceVulkan12Features{.bufferDeviceAddress = VK_TRUE},
+            vk::PhysicalDeviceVulkan12Features{.shaderFloat16 = options.shaderFloat16 ? VK_TRUE : VK_FALSE,
+                                               .bufferDeviceAddress = options.rayTracing ? VK_TRUE : VK_FALSE},
             vk::PhysicalDeviceAccelerationStructureFeaturesKHR{.accelerationStructure = VK_TRUE},
             vk::PhysicalDeviceRayTracingPipelineFeaturesKHR{.rayTracingPipeline = VK_TRUE},
             vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV{.rayTracingInvocationReorder = VK_TRUE}};
-  // Without ray tracing the device is created as before: no features chained.
+  // Without ray tracing or half precision the device is created as before: no features chained.
+  if (!options.rayTracing && !options.shaderFloat16) chain.unlink<vk::PhysicalDeviceVulkan12Features>();
   if (!options.rayTracing) {
-    chain.unlink<vk::PhysicalDeviceVulkan12Features>();
     chain.unlink<vk::PhysicalDeviceAccelerationStructureFeaturesKHR>();
     chain.unlink<vk::PhysicalDeviceRayTracingPipelineFeaturesKHR>();
   }

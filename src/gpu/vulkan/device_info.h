@@ -45,6 +45,14 @@ class DeviceUnavailable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The device lacks an optional feature that the run's options need (--precision
+// f16: shaderFloat16): those options cannot run on it (exit code 2, as for an
+// option a renderer refuses). The message names the device and the feature.
+class FeatureUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // A Vulkan call failed while the device was in use (device lost, out of
 // memory, a fence that never signals): the message says what was being
 // done and the VkResult.

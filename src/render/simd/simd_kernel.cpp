@@ -25,6 +25,20 @@ simd::LaneKernels selectLanes(const simd::TargetKernels& target, int lanes) {
   return kernels;
 }
 
+// Why --precision f16 is refused: the packets are float packets on every
+// target. Highway computes in f16 natively only from version 1.2 on, and
+// only on the targets named, none of which our machines have
+// (docs/render-model.md section 10).
+std::string halfPrecisionRefusal(const std::string& target) {
+  return "the SIMD renderers cannot compute in half precision (--precision f16): their packet kernel has float "
+         "lanes on every target (this CPU's: " +
+         target +
+         "). Native f16 arithmetic, which an f16 kernel needs, is in Highway 1.2 and newer on AVX3_SPR "
+         "(AVX512-FP16, Intel Xeon from Sapphire Rapids on, with GCC), NEON with the ARMv8.2-A FP16 extension, "
+         "SVE and SVE2, and RVV with Zvfh. --gpu --precision f16 runs the experiment where the Vulkan device "
+         "offers shaderFloat16";
+}
+
 }  // namespace
 
 SimdKernel::SimdKernel(const ParallelSettings& settings)
@@ -32,6 +46,7 @@ SimdKernel::SimdKernel(const ParallelSettings& settings)
 
 void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int slots) {
   if (options.hybridThreshold < 0) throw std::invalid_argument("hybrid threshold must not be negative");
+  if (options.precision != Precision::f32) throw HalfPrecisionUnsupported(halfPrecisionRefusal(simdTarget()));
   prepareSpheres(scene);
   accel_.prepare(scene.spheres, options.accel);
   params_.spheres.bvh = accel_.bvh();

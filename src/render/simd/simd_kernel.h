@@ -20,6 +20,13 @@ class LanesUnsupported : public RendererUnavailable {
   using RendererUnavailable::RendererUnavailable;
 };
 
+// --precision f16 where the kernel has no half-precision packets: on every
+// target of this build (docs/render-model.md section 10).
+class HalfPrecisionUnsupported : public RendererUnavailable {
+ public:
+  using RendererUnavailable::RendererUnavailable;
+};
+
 // The SIMD kernel (simd_tbb, simd_only; the thesis' SIMDRenderer): packets
 // of `lanes` horizontally adjacent pixels traced together in SIMD
 // registers, the instruction set chosen per CPU at run time (Highway).

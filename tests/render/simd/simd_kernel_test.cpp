@@ -120,6 +120,31 @@ TEST(TbbOnlyAgreement, AgreesWithSequential) {
 // main() answers RendererUnavailable with exit code 2, the lanes error included.
 static_assert(std::is_base_of_v<RendererUnavailable, LanesUnsupported>);
 
+// --precision f16 (docs/render-model.md section 10): the packet kernel has
+// float lanes on every target, so both SIMD renderers refuse it on each,
+// naming the target and where native f16 arithmetic exists.
+static_assert(std::is_base_of_v<RendererUnavailable, HalfPrecisionUnsupported>);
+
+TEST(HalfPrecision, IsRefusedOnEveryTargetNamingIt) {
+  const Scene scene = test::loadNamedScene("random20");
+  RenderOptions options = optionsForStage(Stage::optimized);
+  options.precision = Precision::f16;
+  for (const std::int64_t target : simd::availableTargets()) {
+    const simd::ScopedTargetOverride force(target);
+    for (const RendererKind mode : {RendererKind::simd_tbb, RendererKind::simd_only}) {
+      const auto renderer = makeCpuRenderer(mode);
+      try {
+        renderer->prepare(scene, {16, 8}, options);
+        ADD_FAILURE() << nameOf(mode) << " on " << simd::targetName(target) << " accepted --precision f16";
+      } catch (const HalfPrecisionUnsupported& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("(this CPU's: " + simd::targetName(target) + ")"), std::string::npos) << message;
+        EXPECT_NE(message.find("AVX3_SPR"), std::string::npos) << message;
+      }
+    }
+  }
+}
+
 // --lanes 4/8/16 exist exactly where the target's vectors hold that many floats.
 TEST(Lanes, FollowTheTargetOnEveryTarget) {
   for (const std::int64_t target : simd::availableTargets()) {
