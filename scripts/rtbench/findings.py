@@ -601,8 +601,9 @@ def _evaluate_precision(claim: PrecisionClaim, heads, halves, samples, frames, r
     }
     where = f"{claim.scene}/{claim.renderer}/{claim.stage}"
     if half is None:
-        why = f"f16 refused: {refused[claim.renderer]}" if claim.renderer in refused else f"no f16 run of {where}"
-        return {**row, "reason": f'{why} (a profile\'s precisions = ["f32", "f16"] runs it)'}
+        if claim.renderer in refused:
+            return {**row, "reason": f"f16 refused: {refused[claim.renderer]}"}
+        return {**row, "reason": f"no f16 run of {where} (profile key precisions = [f32, f16] runs one)"}
     if twin is None:
         return {**row, "configurations": _configurations([half]), "reason": f"no f32 run of {where} beside the f16 one"}
     data = {names.F32: samples.get(_key(twin), np.array([])), names.F16: samples.get(_key(half), np.array([]))}
@@ -638,16 +639,16 @@ TITLE = "The thesis' findings, checked"
 def findings_table(findings: pd.DataFrame) -> tables.Table:
     rows = []
     for r in findings.itertuples(index=False):
-        thesis = _fmt(r.thesis)
+        thesis = fmt_figure(r.thesis)
         if math.isfinite(r.thesis_stated) and not math.isclose(r.thesis_stated, r.thesis, rel_tol=0.02):
             thesis = (
-                f"{thesis} (stated {_fmt(r.thesis_stated)})"
+                f"{thesis} (stated {fmt_figure(r.thesis_stated)})"
                 if math.isfinite(r.thesis)
-                else f"{_fmt(r.thesis_stated)} (stated)"
+                else f"{fmt_figure(r.thesis_stated)} (stated)"
             )
-        ours = _fmt(r.measured)
+        ours = fmt_figure(r.measured)
         if math.isfinite(r.ci_low):
-            ours += f" [{_fmt(r.ci_low)}, {_fmt(r.ci_high)}]"
+            ours += f" [{fmt_figure(r.ci_low)}, {fmt_figure(r.ci_high)}]"
         rows.append(
             [
                 r.claim,
@@ -679,7 +680,8 @@ def findings_table(findings: pd.DataFrame) -> tables.Table:
     )
 
 
-def _fmt(x: float) -> str:
+def fmt_figure(x: float) -> str:
+    """A figure as the findings table shows it: 3 significant digits, whole numbers from 100."""
     if x is None or not math.isfinite(x):
         return tables.MISSING
     if abs(x) >= 100:

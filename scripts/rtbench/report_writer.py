@@ -244,7 +244,17 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
         metavar="RUN_DIR",
         help="run directory written by scripts/bench, or a run archive (.tar.xz, data/reference-runs/README.md)",
     )
-    parser.add_argument("-o", "--output", type=Path, default=Path("report"), help="report directory (default: report/)")
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        help="report directory (default: report/); with --findings the Markdown file (default: standard output)",
+    )
+    parser.add_argument(
+        "--findings",
+        action="store_true",
+        help="instead of a report: the thesis' findings of each run side by side, one column per run (not pooled)",
+    )
     parser.add_argument(
         "--gpu-p",
         type=float,
@@ -259,6 +269,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     if not all(math.isfinite(b) and b > 0 for b in args.budget_ms):
         parser.error("--budget-ms must be positive numbers of milliseconds")
 
+    if args.findings:
+        return findings_side_by_side(parser.prog, args)
+    args.output = args.output or Path("report")
     try:
         with archive.unpacked(args.run_dirs) as run_dirs:  # a committed run archive reads as its directory
             inputs = gather(run_dirs, args.gpu_p, tuple(args.budget_ms))
@@ -271,6 +284,23 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
         print(f"report: {args.output / 'README.md'} ({len(written)} files, {len(results.summary)} configurations)")
         for w in results.warnings:
             print(f"warning: {w}", file=sys.stderr)
+    return 0
+
+
+def findings_side_by_side(prog: str, args: argparse.Namespace) -> int:
+    """--findings: the verdicts table of rtbench.verdicts, to -o or standard output."""
+    from rtbench import verdicts
+
+    try:
+        with archive.unpacked(args.run_dirs) as run_dirs:
+            text = verdicts.write(run_dirs, args.output, args.gpu_p)
+    except (load.RunDataError, thesis.ThesisDataError) as e:
+        print(f"{prog}: {e}", file=sys.stderr)
+        return 1
+    if args.output is None:
+        print(text, end="")
+    elif not args.quiet:
+        print(f"findings: {args.output} ({len(args.run_dirs)} runs)")
     return 0
 
 
