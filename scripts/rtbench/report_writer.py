@@ -46,6 +46,7 @@ from rtbench import (
     stats,
     tables,
     thesis,
+    verdicts,
 )
 from rtbench.run_status import NOT_RUN, RunStatus, probe_reason
 
@@ -288,20 +289,35 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
 
 
 def findings_side_by_side(prog: str, args: argparse.Namespace) -> int:
-    """--findings: the verdicts table of rtbench.verdicts, to -o or standard output."""
-    from rtbench import verdicts
-
+    """--findings: the verdicts table of the runs (rtbench.verdicts), to -o or standard output."""
     try:
         with archive.unpacked(args.run_dirs) as run_dirs:
-            text = verdicts.write(run_dirs, args.output, args.gpu_p)
+            columns = []
+            for run_dir in run_dirs:
+                inputs = gather([run_dir], args.gpu_p)
+                columns.append((verdicts.run_label(run_dir, inputs.frames), evaluate_findings(inputs)))
     except (load.RunDataError, thesis.ThesisDataError) as e:
         print(f"{prog}: {e}", file=sys.stderr)
         return 1
+    text = verdicts.side_by_side(columns)
     if args.output is None:
         print(text, end="")
-    elif not args.quiet:
-        print(f"findings: {args.output} ({len(args.run_dirs)} runs)")
+        return 0
+    atomic.write_text(args.output, text)
+    if not args.quiet:
+        print(f"findings: {args.output} ({len(columns)} runs)")
     return 0
+
+
+def evaluate_findings(inputs: ReportInputs) -> pd.DataFrame:
+    """The findings of one run (findings.COLUMNS), as its report computes them."""
+    summary = stats.summarize_configs(inputs.frames)
+    met, thesis_metrics, occupancy, _, refusals = check_inputs(inputs, summary)
+    f32 = names.at_f32(summary)
+    size = tables.sizes(f32 if len(f32) else summary)[0]
+    return findings.evaluate(
+        summary, inputs.frames, met, inputs.thesis_tables, thesis_metrics, size, occupancy, refusals
+    )
 
 
 # --- writing ---------------------------------------------------------------------

@@ -1,7 +1,8 @@
 """The thesis' findings of several runs side by side (`scripts/report.py
 --findings RUN [RUN ...] -o FILE.md`): one Markdown table, a row per claim,
 a column per run, each cell the run's verdict and its figure with the 95 %
-CI, as each run's own report has them (findings.evaluate).
+CI, as each run's own report has them (findings.evaluate; report_writer
+evaluates each run and writes the table).
 
 Runs are never pooled here: each is its own column, labelled by what sets
 it apart from the thesis' setup (docs/thesis.md "The findings, checked"):
@@ -15,18 +16,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from rtbench import atomic, findings, names, report_writer, stats, tables
-
-
-def evaluate_run(inputs: report_writer.ReportInputs) -> pd.DataFrame:
-    """The findings of one run (findings.COLUMNS), as its report computes them."""
-    summary = stats.summarize_configs(inputs.frames)
-    met, thesis_metrics, occupancy, _, refusals = report_writer.check_inputs(inputs, summary)
-    f32 = names.at_f32(summary)
-    size = tables.sizes(f32 if len(f32) else summary)[0]
-    return findings.evaluate(
-        summary, inputs.frames, met, inputs.thesis_tables, thesis_metrics, size, occupancy, refusals
-    )
+from rtbench import findings, names, tables
 
 
 def run_label(run_dir: Path, frames: pd.DataFrame) -> str:
@@ -70,15 +60,3 @@ NOTE = (
     "machine's logical cores and the build's optimisation level (the thesis: 8 cores of an Apple M1, -O0). "
     "The lines: docs/thesis.md, 'The findings, checked'."
 )
-
-
-def write(run_dirs: list[Path], out: Path | None, gpu_override: float | None = None) -> str:
-    """The table of the runs (directories, archives already unpacked), written to `out` where given."""
-    columns = []
-    for run_dir in run_dirs:
-        inputs = report_writer.gather([run_dir], gpu_override)
-        columns.append((run_label(run_dir, inputs.frames), evaluate_run(inputs)))
-    text = side_by_side(columns)
-    if out is not None:
-        atomic.write_text(out, text)
-    return text

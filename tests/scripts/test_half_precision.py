@@ -63,7 +63,8 @@ def test_precisions_expand_into_runs_with_the_flag_and_agreement_adds_its_own():
     spec = {"simd_only": {"precisions": ["f32", "f16"], "agreement": True}, "sequential": {}}
     configs = configurations.expand(profile(spec), [Path("scenes/default.json")], 2)
     argvs = {c.id: c.argv(Path("rt"), Path("a.csv"), Path("a.json")) for c in configs}
-    assert sorted(argvs) == ["default-sequential-original", "default-simd_only-original", "default-simd_only-original-f16"]
+    ids = ["default-sequential-original", "default-simd_only-original", "default-simd_only-original-f16"]
+    assert sorted(argvs) == ids
     f16 = argvs["default-simd_only-original-f16"]
     assert f16[f16.index("--precision") + 1] == "f16"
     for config_id in ("default-simd_only-original", "default-simd_only-original-f16"):
