@@ -3,7 +3,8 @@ raytracer command line, and the order their repetitions run in.
 
 Pure functions: the matrix of scenes x stages x accels x renderers x each
 renderer's axes (x traversals and hybrid thresholds where the SIMD kernel
-walks the BVH, x the GPU renderers' variants), the profile's [[overrides]]
+walks the BVH, x the GPU renderers' variants, x the renderer's precisions),
+the profile's [[overrides]]
 applied, and the schedule (round-robin, shuffle or blocked). A generated
 scene keeps its stand-in path under profiles.GENERATED_SCENES until the
 bench runner writes it into the run directory (place_generated_scenes).
@@ -19,9 +20,11 @@ from pathlib import Path
 
 from rtbench import names
 from rtbench.profiles import (
+    AGREEMENT_KEY,
     GENERATED_SCENES,
     GPU_KEYS,
     OVERRIDE_AXES,
+    PRECISIONS_KEY,
     RUN_AXES,
     SIZE_AXIS,
     Profile,
@@ -44,6 +47,12 @@ GPU_FLAGS = {
 # devices offer, so the bench probes each of its values (probe_args).
 PROBED_AXES = (names.GPU_RT_REORDER,)
 COUNTERS_FLAG = "--counters"
+# --precision f16 needs native f16 arithmetic (the CPU's Highway target, or
+# the device's shaderFloat16), which the raytracer refuses without: the bench
+# probes each renderer once more at f16 (probe_args). --agreement adds the
+# image of frame 0 against the double-precision reference to the metadata.
+PRECISION_FLAG = "--precision"
+AGREEMENT_FLAG = "--agreement"
 # Every axis and the raytracer option it sets: the renderer options of the
 # schema (a renderer takes those its renderers[].options lists), then RUN_AXES.
 RENDERER_AXES = {**names.OPTION_FLAGS, **RUN_AXES}
@@ -73,6 +82,9 @@ class Config:
     gpu_path: str = ""
     gpu_rt_reorder: str = ""
     counters: bool = False
+    # "" where the renderer table names no precisions (the binary's f32, no flag).
+    precision: str = ""
+    agreement: bool = False
 
     @property
     def gpu_axes(self) -> dict[str, str]:
@@ -92,6 +104,7 @@ class Config:
             *accel,
             *names.traversal_tag(self.traversal, self.hybrid_threshold),
             *names.gpu_tag(*self.gpu_axes.values()),
+            *names.precision_tag(self.precision),
             *(f"{axis}{value}" for axis, value in self.axes),
         ]
         return re.sub(r"[^A-Za-z0-9_.-]+", "_", "-".join(parts))
@@ -109,6 +122,10 @@ class Config:
                 argv += [GPU_FLAGS[axis], value]
         if self.counters:
             argv.append(COUNTERS_FLAG)
+        if self.precision:
+            argv += [PRECISION_FLAG, self.precision]
+        if self.agreement:
+            argv.append(AGREEMENT_FLAG)
         argv += ["--width", str(self.width), "--height", str(self.height)]
         argv += ["--warmup", str(self.warmup), "--frames", str(self.frames)]
         for axis, value in self.axes:
@@ -132,6 +149,8 @@ class Config:
             "hybrid_threshold": self.hybrid_threshold,
             **self.gpu_axes,
             "counters": self.counters,
+            "precision": self.precision,
+            "agreement": self.agreement,
             "width": self.width,
             "height": self.height,
             "warmup": self.warmup,
@@ -198,8 +217,11 @@ def expand(
         ids = set()  # of this scene, stage, accel and renderer
         walks = traversals(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
         gpu = gpu_variants(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
-        for (traversal, threshold), gpu_values, combo in itertools.product(
-            walks, gpu, itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes))
+        for (traversal, threshold), gpu_values, precision, combo in itertools.product(
+            walks,
+            gpu,
+            spec.get(PRECISIONS_KEY, [""]),
+            itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes)),
         ):
             config = Config(
                 scene=scene_path.stem,
@@ -217,6 +239,8 @@ def expand(
                 hybrid_threshold=threshold,
                 **dict(zip(names.GPU_AXES, gpu_values)),
                 counters=profile.counters and names.counts_lanes(renderer),
+                precision=precision,
+                agreement=spec[AGREEMENT_KEY],
             )
             config = apply_overrides(sized(config), profile.overrides, dict(zip(axes, (w for w, _ in combo))))
             # Two written values of one command line ("all" and 2 on 2 cores) run once, the first kept.
@@ -258,12 +282,15 @@ def gpu_variants(profile: Profile, renderer: str, accel: str) -> list[tuple[str,
 def probe_args(config: dict) -> tuple[str, ...]:
     """The options of a configuration (as Config.describe gives it, the
     manifest's form) that the probe of its renderer must also pass: the
-    values of the PROBED_AXES it has, so that a device which runs the
-    renderer but lacks what one value needs is found before the runs."""
+    values of the PROBED_AXES it has, and a precision other than f32, so
+    that a device (or CPU) which runs the renderer but lacks what one value
+    needs is found before the runs."""
     args: list[str] = []
     for axis in PROBED_AXES:
         if config.get(axis):
             args += [GPU_FLAGS[axis], config[axis]]
+    if names.precision_of(config.get("precision")) != names.F32:
+        args += [PRECISION_FLAG, config["precision"]]
     return tuple(args)
 
 
@@ -311,6 +338,7 @@ def _matches(config: Config, override: dict, written: dict[str, str]) -> bool:
         and config.accel in override.get("accels", [config.accel])
         and (config.traversal in override["traversals"] if "traversals" in override else True)
         and all(config.gpu_axes[axis] in override[key] for key, axis in GPU_KEYS.items() if key in override)
+        and names.precision_of(config.precision) in override.get(PRECISIONS_KEY, [names.precision_of(config.precision)])
         and all(_axis_matches(written, override, axis) for axis in OVERRIDE_AXES)
     )
 

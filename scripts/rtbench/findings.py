@@ -10,7 +10,13 @@ which the claim holds. Its verdict:
 - `not reproduced`: the CI lies wholly outside it;
 - `inconclusive`: the CI straddles a border of the region;
 - `not measured`: a configuration the figure needs is not in the run (the
-  row names which), or the kit has no such run at all (half precision).
+  row names which, or what refused it: half precision on a CPU without
+  native f16 arithmetic).
+
+Claim 8 (half precision) joins two parts, the speedup f32/f16 and the f16
+image's agreement with the double-precision reference (precision.py); its
+verdict is both's (both_hold), and row 8b, the kit's extension, asks the
+same of the GPU renderer.
 
 The figure's CI resamples each configuration's measured frames (seeded, as
 stats.bootstrap_median_ci) and evaluates the figure on every resample's
@@ -29,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from rtbench import metrics, names, stats, tables
+from rtbench import metrics, names, precision, stats, tables
 
 REPRODUCED = "reproduced"
 NOT_REPRODUCED = "not reproduced"
@@ -67,12 +73,6 @@ CPU_RENDERERS = ("sequential", "simd_tbb", "simd_only", "tbb_only")
 
 # Why ours may differ from the thesis: the factors the reason column checks.
 BUILD, CORES, LANES, OCCUPANCY = "build", "cores", "lanes", "occupancy"
-
-# What a half-precision ablation will need (claim 8), named so it can fill the row.
-F16_FIELDS = (
-    "a `precision` configuration column (f32 | f16) in the frame CSV and the configuration keys",
-    "an image-error figure against the sequential image (e.g. `image_rmse`) per configuration",
-)
 
 
 @dataclass(frozen=True)
@@ -265,17 +265,47 @@ CLAIMS: list[Claim] = [
         ("karp_flatt", "gpu"),
     ),
 ]
-# Claim 8 has no predicate over this kit's runs yet (F16_FIELDS).
-F16_CLAIM = Claim(
-    "8",
-    "half precision (8 lanes of f16) doubles the SIMD speed and ruins the image",
-    "S(f16) / S(f32) of simd_tbb, and the f16 image's error",
-    (),
-    lambda m, p: math.nan,
-    2.0 / ABOUT,
-    2.0 * ABOUT,
-    f"about 2x: ratio in [2/{ABOUT:g}, 2×{ABOUT:g}], and an error beyond the renderers' tolerance",
-)
+
+
+@dataclass(frozen=True)
+class PrecisionClaim:
+    """A claim on half precision: the speedup f32/f16 of one renderer's
+    headline configuration (the f16 one beside the f32 one) about 2x, and
+    the f16 image ruined, i.e. failing the render model's rule against the
+    double-precision reference (precision.agrees)."""
+
+    key: str
+    text: str
+    renderer: str
+    stated: float  # the thesis' "twice as fast"; NaN for the kit's own row
+    stage: str = "original"  # where the thesis tried it: before single-pass (docs/thesis.md "Stages")
+    scene: str = SCENE
+    low: float = 2.0 / ABOUT
+    high: float = 2.0 * ABOUT
+    factors: tuple[str, ...] = (BUILD, LANES)
+
+    @property
+    def figure(self) -> str:
+        return f"S = T({self.renderer}, f32) / T({self.renderer}, f16), and the f16 image vs the double reference"
+
+    @property
+    def line(self) -> str:
+        return (
+            f"about 2x: S in [2/{ABOUT:g}, 2×{ABOUT:g}], and the f16 image fails render model §8 "
+            f"(< {precision.AGREES_WITHIN:.1%} of pixels within 2/255, or < {precision.AGREES_PSNR_DB:g} dB)"
+        )
+
+
+F16_CLAIMS = [
+    PrecisionClaim("8", "half precision (8 lanes of f16) doubles the SIMD speed and ruins the image", "simd_only", 2.0),
+    PrecisionClaim(
+        "8b",
+        "not a thesis claim (the kit's extension of 8): half precision doubles the GPU renderer's speed and ruins "
+        "its image",
+        names.GPU_RENDERER,
+        math.nan,
+    ),
+]
 
 COLUMNS = [
     "claim",
@@ -329,17 +359,23 @@ def evaluate(
     thesis_metrics: pd.DataFrame,
     size: tuple[int, int],
     occupancy: pd.DataFrame | None = None,
+    refused: dict[str, str] | None = None,
     claims: list[Claim] | None = None,
 ) -> pd.DataFrame:
-    """One row per claim (COLUMNS), in CLAIMS' order, then claim 8."""
+    """One row per claim (COLUMNS), in CLAIMS' order, then the F16_CLAIMS.
+    `refused`: renderer -> why the bench's probe refused its f16 runs
+    (precision.refused)."""
     claims = CLAIMS if claims is None else claims
-    heads = tables.headline_rows(summary)
-    heads = heads[(heads[names.WIDTH] == size[0]) & (heads[names.HEIGHT] == size[1])]
+    heads, halves = (_at_size(tables.headline_rows(summary, p), size) for p in (names.F32, names.F16))
     samples = _frame_samples(frames)
     published = pd.DataFrame(thesis_tables).drop_duplicates(["stage", "renderer", "scene"])
     rows = [_evaluate_one(c, heads, samples, met, frames, published, thesis_metrics, occupancy) for c in claims]
-    rows.append(_f16_row())
+    rows += [_evaluate_precision(c, heads, halves, samples, frames, refused or {}) for c in F16_CLAIMS]
     return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def _at_size(rows: pd.DataFrame, size: tuple[int, int]) -> pd.DataFrame:
+    return rows[(rows[names.WIDTH] == size[0]) & (rows[names.HEIGHT] == size[1])]
 
 
 def _key(row) -> tuple[str, ...]:
@@ -531,25 +567,68 @@ def _reason(claim: Claim, rows: list[pd.Series], frames: pd.DataFrame, occupancy
     return "; ".join(parts)
 
 
-def _f16_row() -> dict:
-    c = F16_CLAIM
-    return {
-        "claim": c.key,
-        "text": c.text,
-        "figure": c.figure,
-        "line": c.line,
-        "low": c.low,
-        "high": c.high,
-        "scene": c.scene,
-        "configurations": "",
+def both_hold(*verdicts: str) -> str:
+    """The verdict of a claim made of parts that must all hold: not
+    reproduced where one part is not, not measured where one was not
+    measured, inconclusive where one is, else reproduced."""
+    for outcome in (NOT_REPRODUCED, NOT_MEASURED, INCONCLUSIVE):
+        if outcome in verdicts:
+            return outcome
+    return REPRODUCED
+
+
+def _evaluate_precision(claim: PrecisionClaim, heads, halves, samples, frames, refused: dict[str, str]) -> dict:
+    """A half-precision claim's row: the speedup f32/f16 of the renderer's
+    headline configurations with its CI (figure_ci), and the f16 image's agreement."""
+    ref = Ref(claim.renderer, claim.stage)
+    half = _pick(halves, claim.scene, ref, None)
+    twin = None if half is None else _pick(heads, claim.scene, ref, half[names.BUILD_TYPE])
+    row = {
+        "claim": claim.key,
+        "text": claim.text,
+        "figure": claim.figure,
+        "line": claim.line,
+        "low": claim.low,
+        "high": claim.high,
+        "scene": claim.scene,
         "thesis": math.nan,
-        "thesis_stated": 2.0,
+        "thesis_stated": claim.stated,
+        "configurations": "",
         "measured": math.nan,
         "ci_low": math.nan,
         "ci_high": math.nan,
         "verdict": NOT_MEASURED,
-        "reason": "no f16 ablation in this run; it needs " + " and ".join(F16_FIELDS),
     }
+    where = f"{claim.scene}/{claim.renderer}/{claim.stage}"
+    if half is None:
+        if claim.renderer in refused:
+            return {**row, "reason": f"f16 refused: {refused[claim.renderer]}"}
+        return {**row, "reason": f"no f16 run of {where} (profile key precisions = [f32, f16] runs one)"}
+    if twin is None:
+        return {**row, "configurations": _configurations([half]), "reason": f"no f32 run of {where} beside the f16 one"}
+    data = {names.F32: samples.get(_key(twin), np.array([])), names.F16: samples.get(_key(half), np.array([]))}
+    value, low, high = figure_ci(lambda m, p: m[names.F32] / m[names.F16], data, {})
+    agreement = precision.agreement_by_config(frames).get(_key(half), {})
+    ruined = {0.0: REPRODUCED, 1.0: NOT_REPRODUCED}.get(agreement.get("agrees"), NOT_MEASURED)
+    result = both_hold(verdict(low, high, claim.low, claim.high), ruined)
+    image = f"f16 image against the double reference: {_image_text(agreement)}"
+    reason = _reason(claim, [twin, half], frames, None) if result != REPRODUCED else ""
+    return {
+        **row,
+        "configurations": f"f32: {_configurations([twin])}; f16: {_configurations([half])}",
+        "measured": value,
+        "ci_low": low,
+        "ci_high": high,
+        "verdict": result,
+        "reason": "; ".join(part for part in (image, reason) if part),
+    }
+
+
+def _image_text(agreement: dict) -> str:
+    """How far the f16 image is from the double reference, and whether it agrees (precision.agreement_text)."""
+    if not agreement or math.isnan(agreement.get("agrees", math.nan)):
+        return "not compared (its runs had no --agreement)"
+    return precision.agreement_text({precision.side_column(names.F16, k): v for k, v in agreement.items()}, names.F16)
 
 
 # --- the table ---------------------------------------------------------------------
@@ -560,16 +639,16 @@ TITLE = "The thesis' findings, checked"
 def findings_table(findings: pd.DataFrame) -> tables.Table:
     rows = []
     for r in findings.itertuples(index=False):
-        thesis = _fmt(r.thesis)
+        thesis = fmt_figure(r.thesis)
         if math.isfinite(r.thesis_stated) and not math.isclose(r.thesis_stated, r.thesis, rel_tol=0.02):
             thesis = (
-                f"{thesis} (stated {_fmt(r.thesis_stated)})"
+                f"{thesis} (stated {fmt_figure(r.thesis_stated)})"
                 if math.isfinite(r.thesis)
-                else f"{_fmt(r.thesis_stated)} (stated)"
+                else f"{fmt_figure(r.thesis_stated)} (stated)"
             )
-        ours = _fmt(r.measured)
+        ours = fmt_figure(r.measured)
         if math.isfinite(r.ci_low):
-            ours += f" [{_fmt(r.ci_low)}, {_fmt(r.ci_high)}]"
+            ours += f" [{fmt_figure(r.ci_low)}, {fmt_figure(r.ci_high)}]"
         rows.append(
             [
                 r.claim,
@@ -601,7 +680,8 @@ def findings_table(findings: pd.DataFrame) -> tables.Table:
     )
 
 
-def _fmt(x: float) -> str:
+def fmt_figure(x: float) -> str:
+    """A figure as the findings table shows it: 3 significant digits, whole numbers from 100."""
     if x is None or not math.isfinite(x):
         return tables.MISSING
     if abs(x) >= 100:

@@ -115,6 +115,7 @@ def _check_values(path: Path, columns: dict[str, list]) -> None:
     _check_members(path, names.RENDERER, columns[names.RENDERER], names.RENDERERS)
     _check_members(path, names.ALGORITHM, columns[names.ALGORITHM], names.ALGORITHMS)
     _check_members(path, names.ACCEL, columns[names.ACCEL], names.ACCELS)
+    _check_members(path, names.PRECISION, columns[names.PRECISION], ["", *names.PRECISIONS])
     for text in set(columns[names.EARLY_EXIT]):
         bad = names.parse_early_exits(text) - set(names.EARLY_EXITS)
         if bad:
@@ -225,6 +226,9 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     frames[names.TRAVERSAL] = _traversals(frames)
     for axis in names.GPU_AXES:
         frames[axis] = _gpu_axis(frames, axis)
+    frames[names.PRECISION] = [names.precision_of(p) for p in frames[names.PRECISION]]
+    for column, value in _agreement(meta_path, meta).items():
+        frames[column] = value
     build = meta.get(names.META_BUILD) or {}
     host = meta.get(names.META_HOST) or {}
     frames[names.STAGE] = [names.stage_of(a, e) for a, e in zip(frames[names.ALGORITHM], frames[names.EARLY_EXIT])]
@@ -265,6 +269,26 @@ def _gpu_axis(frames: pd.DataFrame, axis: str) -> list[str]:
         v or (default if axis in names.gpu_axes_of(r, a) else "")
         for v, r, a in zip(frames[axis], frames[names.RENDERER], frames[names.ACCEL])
     ]
+
+
+def _agreement(meta_path: Path, meta: dict) -> dict[str, float]:
+    """The run's agreement with the double-precision reference (the metadata's
+    agreement object, written with --agreement): NaN in every column where
+    the run has none, a PSNR of null as infinity (identical images)."""
+    agreement = meta.get(names.META_AGREEMENT)
+    if agreement is None:
+        return {column: math.nan for column in names.AGREEMENT_COLUMNS}
+    if not isinstance(agreement, dict):
+        raise RunDataError(f"{meta_path}: {names.META_AGREEMENT} must be an object or null, not {agreement!r}")
+    values = {}
+    for column in names.AGREEMENT_COLUMNS:
+        value = agreement.get(column)
+        if value is None and column == names.PSNR_DB:
+            value = math.inf
+        if not isinstance(value, (int, float)) or isinstance(value, bool):
+            raise RunDataError(f"{meta_path}: {names.META_AGREEMENT}.{column} must be a number, not {value!r}")
+        values[column] = float(value)
+    return values
 
 
 def _sphere_count(meta_path: Path, meta: dict) -> int:

@@ -59,6 +59,10 @@ GPU_PATH = _column("gpu_path")
 # axis like the three above, of another renderer (GPU_AXIS_RENDERER).
 GPU_RT_REORDER = _column("gpu_rt_reorder")
 GPU_AXES = [GPU_BVH, GPU_SCHEDULE, GPU_PATH, GPU_RT_REORDER]
+# The floating-point type of the render model's arithmetic (the schema's
+# precisions): f32 unless the run used --precision f16, the thesis' half-
+# precision experiment. A CSV written before the column lacks it: f32.
+PRECISION = _column("precision")
 WIDTH = _column("width")
 HEIGHT = _column("height")
 FRAME = _column("frame")
@@ -85,7 +89,7 @@ DEPTH_SEPARATOR = "/"
 # kernel does not walk a BVH, the GPU variants for the CPU renderers,
 # counters without --counters), and that a CSV written before them lacks:
 # the loader reads such a CSV as if they were empty.
-OPTIONAL_COLUMNS = [TRAVERSAL, HYBRID_THRESHOLD, *GPU_AXES, *COUNTER_COLUMNS]
+OPTIONAL_COLUMNS = [TRAVERSAL, HYBRID_THRESHOLD, *GPU_AXES, PRECISION, *COUNTER_COLUMNS]
 # The host wall time of each phase of the frame loop (the schema's phases:
 # Update, Render, Present), whose sum is the time of the whole frame.
 PHASE_MS = [_column(f"{phase.lower()}_ms") for phase in schema.schema()["phases"]]
@@ -119,6 +123,9 @@ META_DEVICE_DRIVER_NAME = _meta_field(META_DEVICE, "driver_name")
 META_DEVICE_DRIVER_VERSION = _meta_field(META_DEVICE, "driver_version")
 META_DEVICE_DRIVER_INFO = _meta_field(META_DEVICE, "driver_info")
 META_DEVICE_API_VERSION = _meta_field(META_DEVICE, "api_version")
+# --agreement: how far the run's image of frame 0 is from the double-precision
+# reference (docs/render-model.md section 8); null without it.
+META_AGREEMENT = _meta_key("agreement")
 
 # Columns the loader adds to the schema's columns (not in the CSV files);
 # those taken from the metadata are named as its keys.
@@ -137,6 +144,14 @@ LOGICAL_CORES = _meta_field(META_HOST, "logical_cores")
 SOURCE = "source"
 GIT_COMMIT = _meta_field(META_BUILD, "git_commit")
 GIT_DIRTY = _meta_field(META_BUILD, "git_dirty")
+# The agreement of a run's image with the double-precision reference, from
+# the metadata's agreement object: the share of pixels within the tolerance
+# (0 to 1), the PSNR in dB (infinite for identical images) and the largest
+# channel difference; NaN where the run had no --agreement.
+WITHIN_TOLERANCE = _meta_field(META_AGREEMENT, "within_tolerance")
+PSNR_DB = _meta_field(META_AGREEMENT, "psnr_db")
+MAX_CHANNEL_DIFFERENCE = _meta_field(META_AGREEMENT, "max_channel_difference")
+AGREEMENT_COLUMNS = [WITHIN_TOLERANCE, PSNR_DB, MAX_CHANNEL_DIFFERENCE]
 
 # The columns that identify one configuration in the tidy frame.
 CONFIG_KEYS = [
@@ -153,6 +168,7 @@ CONFIG_KEYS = [
     GPU_SCHEDULE,
     GPU_PATH,
     GPU_RT_REORDER,
+    PRECISION,
     THREADS,
     LANES,
     SIMD_TARGET,
@@ -194,6 +210,7 @@ GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"]]
 GPU_SCHEDULES: list[str] = [s["name"] for s in schema.schema()["gpu_schedules"]]
 GPU_PATHS: list[str] = [p["name"] for p in schema.schema()["gpu_paths"]]
 GPU_RT_REORDERS: list[str] = [r["name"] for r in schema.schema()["gpu_rt_reorders"]]
+PRECISIONS: list[str] = [p["name"] for p in schema.schema()["precisions"]]
 CSV_COLUMNS: list[str] = schema.frame_csv_columns()
 COLUMN_TYPES: dict[str, str] = {c["name"]: c["type"] for c in schema.schema()["frame_csv"]}
 SCHEMA_VERSION: int = schema.schema()["version"]
@@ -227,6 +244,10 @@ NO_REORDER = _member("none", "gpu_rt_reorders", GPU_RT_REORDERS)
 # The renderers on a Vulkan device that time their frames' work on the device
 # (the gpu_ms column): the compute renderer and the ray-tracing pipeline.
 GPU_MS_RENDERERS: list[str] = [GPU_RENDERER, GPU_RT_RENDERER]
+# The render model's precision, which every renderer runs in (and every run
+# before the precision axis ran in), and the thesis' half precision.
+F32 = _member("f32", "precisions", PRECISIONS)
+F16 = _member("f16", "precisions", PRECISIONS)
 # Each GPU axis: (its values in schema order, its default).
 GPU_AXIS_VALUES: dict[str, tuple[list[str], str]] = {
     GPU_BVH: (GPU_BVHS, BINARY),
@@ -269,6 +290,26 @@ def counts_lanes(renderer: str) -> bool:
     """Whether `renderer` takes --counters: the SIMD kernel's renderers and
     the GPU renderer (which counts per subgroup)."""
     return runs_simd_kernel(renderer) or renderer == GPU_RENDERER
+
+
+def takes_precision(renderer: str) -> bool:
+    """Whether `renderer` takes --precision f16 (the schema's precisions: the
+    SIMD kernel's renderers and the GPU renderer; the raytracer refuses it
+    for the others)."""
+    return runs_simd_kernel(renderer) or renderer == GPU_RENDERER
+
+
+def precision_of(value) -> str:
+    """A configuration's precision: the value, or F32 where it is empty or
+    missing (a CSV or a profile from before the precision axis)."""
+    return value if isinstance(value, str) and value else F32
+
+
+def at_f32(df):
+    """The rows of a frame or summary that ran at F32: what every table not
+    about precision shows, so that an f16 run never enters a comparison of
+    f32 ones (the half-precision section has them)."""
+    return df[df[PRECISION] == F32]
 
 
 def takes_traversal(renderer: str, accel: str) -> bool:
@@ -343,10 +384,23 @@ def accel_tag(row) -> list[str]:
 
 
 def variant_tag(row) -> list[str]:
+    """A row's traversal_tag, its gpu_tag, then its precision_tag: how the
+    configuration walked its accel, and in which precision, where that is
+    not the default."""
+    return walk_tag(row) + precision_tag(row.get(PRECISION, ""))
+
+
+def walk_tag(row) -> list[str]:
     """A row's traversal_tag, then its gpu_tag: how the configuration walked
     its accel where that is not the default."""
     gpu = [row.get(axis, "") for axis in GPU_AXES]
     return traversal_tag(row.get(TRAVERSAL, ""), row.get(HYBRID_THRESHOLD)) + gpu_tag(*gpu)
+
+
+def precision_tag(precision) -> list[str]:
+    """[precision] where it is not F32 (which labels leave unsaid, as before
+    the precision axis), else []."""
+    return [] if precision_of(precision) == F32 else [precision]
 
 
 def traversal_order(traversal: str) -> int:
@@ -358,6 +412,11 @@ def gpu_order(axis: str, value: str) -> int:
     """Sort key of a GPU axis' value: none first, then the schema order (the
     default first), unknown ones last."""
     return _order(value, GPU_AXIS_VALUES[axis][0])
+
+
+def precision_order(precision) -> int:
+    """Sort key: the schema's precisions in order (f32 first), unknown ones last."""
+    return _order(precision_of(precision), PRECISIONS)
 
 
 def _order(value, members: list[str]) -> int:

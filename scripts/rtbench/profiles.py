@@ -9,7 +9,8 @@ the GPU renderer's variants (gpu_bvhs, gpu_schedules, gpu_paths: the
 schema's lists of them), the gpu_rt renderer's (gpu_rt_reorders) and whether the counting renderers count their lane
 work (counters), renderers with
 their own axes (the renderer options the schema gives each, of threads,
-lanes, grain and partition; and device, present), the image
+lanes, grain and partition; and device, present), their precisions and
+agreement check (precisions, agreement), the image
 size, warm-up and measured frames, repetitions and the interleaving. Every
 key is checked against one table of rules (TOP_RULES and the others below).
 Everything here is pure: reading the TOML is the only I/O. A scene that
@@ -245,6 +246,17 @@ STAGE_RULES = {
     "algorithm": Rule("str", choices=tuple(names.ALGORITHMS)),
     "early_exits": Rule("str", [], shape="list", choices=tuple(names.EARLY_EXITS)),
 }
+# Keys of [renderers.NAME] that are not axes of a raytracer option:
+# `precisions` runs the renderer once per precision with --precision (the
+# thesis' half-precision experiment; only the renderers that take it, names.takes_precision);
+# `agreement` adds --agreement, the image of frame 0 against the double-precision reference.
+PRECISIONS_KEY = "precisions"
+AGREEMENT_KEY = "agreement"
+RENDERER_EXTRA_RULES = {
+    PRECISIONS_KEY: Rule("str", OPTIONAL, shape="list", choices=tuple(names.PRECISIONS)),
+    AGREEMENT_KEY: Rule("bool", False),
+    "args": Rule("str", [], shape="list"),
+}
 # [[overrides]]: which configurations a table matches, and what it sets there.
 OVERRIDE_RULES = {
     "renderers": Rule("str", OPTIONAL, shape="list", choices=tuple(names.RENDERERS)),
@@ -255,6 +267,8 @@ OVERRIDE_RULES = {
     "traversals": replace(TOP_RULES["traversals"], default=OPTIONAL),
     # Likewise a configuration without that GPU axis (names.gpu_axes_of) never matches them.
     **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in GPU_KEYS},
+    # A configuration's precision: f32 where its renderer table names no precisions.
+    PRECISIONS_KEY: replace(RENDERER_EXTRA_RULES[PRECISIONS_KEY], default=OPTIONAL),
     # Axis values of the configuration as the profile writes them (a number
     # never matches the threads "all" resolves to), e.g. to run the thread
     # counts of a scaling study on one scene only.
@@ -288,9 +302,9 @@ ANY_AXIS = Rule("int|str", OPTIONAL, "axis")
 
 def renderer_rules(renderer: str) -> dict[str, Rule]:
     """The keys of [renderers.NAME]: the options the schema says it accepts,
-    the run's axes (device, present) and extra args."""
+    the run's axes (device, present), its precisions, agreement and extra args."""
     axes = [*names.RENDERER_OPTIONS[renderer], *RUN_AXES]
-    return {**{axis: AXIS_RULES.get(axis, ANY_AXIS) for axis in axes}, "args": Rule("str", [], shape="list")}
+    return {**{axis: AXIS_RULES.get(axis, ANY_AXIS) for axis in axes}, **RENDERER_EXTRA_RULES}
 
 
 def describe(rule: Rule) -> str:
@@ -374,7 +388,23 @@ def _renderers(table: dict, path: Path) -> dict[str, dict[str, list]]:
                 f"(schema/rt_schema.json: its options are {accepted})"
             )
         result[renderer] = check_table(spec, renderer_rules(renderer), path, where)
+        _check_precisions(result[renderer], renderer, path, where)
     return result
+
+
+def _check_precisions(spec: dict, renderer: str, path: Path, where: str) -> None:
+    """`precisions` only where the renderer takes --precision, each value once."""
+    if PRECISIONS_KEY not in spec:
+        return
+    takers = ", ".join(r for r in names.RENDERERS if names.takes_precision(r))
+    if not names.takes_precision(renderer):
+        raise ProfileError(
+            f"{path}: {where}{PRECISIONS_KEY}: renderer {renderer} does not take --precision "
+            f"(only {takers} do: schema/rt_schema.json, precisions)"
+        )
+    chosen = spec[PRECISIONS_KEY]
+    if not chosen or len(set(chosen)) != len(chosen):
+        raise ProfileError(f"{path}: {where}{PRECISIONS_KEY} must name each precision once, not {chosen!r}")
 
 
 def _check_traversal_keys(values: dict, renderers: dict, path: Path) -> None:

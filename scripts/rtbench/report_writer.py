@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -43,11 +42,13 @@ from rtbench import (
     names,
     noise,
     plots,
+    precision,
     stats,
     tables,
     thesis,
+    verdicts,
 )
-from rtbench.run_status import NOT_RUN, RunStatus
+from rtbench.run_status import NOT_RUN, RunStatus, probe_reason
 
 TABLES_DIR = "tables"
 PLOTS_DIR = "plots"
@@ -82,6 +83,7 @@ class ReportResults:
     occupancy: pd.DataFrame = field(default_factory=pd.DataFrame)  # lane counters (metrics.lane_occupancy), if any
     gpu_variants: pd.DataFrame = field(default_factory=pd.DataFrame)  # metrics.gpu_variants, if the run has them
     findings: pd.DataFrame = field(default_factory=pd.DataFrame)  # the thesis' claims with verdicts (findings.evaluate)
+    half_precision: pd.DataFrame = field(default_factory=pd.DataFrame)  # precision.half_precision, if the run has f16
     written: list[Path] = field(default_factory=list)
 
 
@@ -105,28 +107,38 @@ def gather(
 
 
 def compute(inputs: ReportInputs) -> ReportResults:
-    """All statistics, metrics and tables; no I/O."""
+    """All statistics, metrics and tables; no I/O. The comparisons see the
+    f32 configurations only (names.at_f32); the summary and frame-budget
+    tables list every configuration, and the half-precision section sets
+    each f16 one beside its f32 twin."""
     summary = metrics.with_throughput(stats.summarize_configs(inputs.frames), inputs.frames)
-    cores = int(inputs.frames[names.LOGICAL_CORES].max())
-    met = metrics.metrics_table(summary, cores, inputs.gpu_estimates, inputs.gpu_override)
-    scaling = metrics.scaling_table(summary)
-    curves = metrics.sphere_curves(summary)
+    f32_summary, f32_frames = names.at_f32(summary), names.at_f32(inputs.frames)
+    met, thesis_metrics, occupancy, halves, refusals = check_inputs(inputs, summary)
+    scaling = metrics.scaling_table(f32_summary)
+    curves = metrics.sphere_curves(f32_summary)
     fits = metrics.cost_fits(curves)
-    thesis_metrics = thesis.reported_vs_recomputed(inputs.thesis_tables, inputs.thesis_reported)
     built = build_tables(summary, met, thesis_metrics, inputs.thesis_tables, fits)
     budgets = budget.summarize_budgets(inputs.frames, inputs.budgets_ms)
     built.append(budget.budget_table(budgets, inputs.budgets_ms))
-    occupancy = metrics.lane_occupancy(inputs.frames)
     if not occupancy.empty:
         built.append(tables.lane_occupancy(occupancy))
-    variants = metrics.gpu_variants(inputs.frames)
+    variants = metrics.gpu_variants(f32_frames)
     if not variants.empty:
         built.append(tables.gpu_variants(variants))
     startup = metrics.startup_times(inputs.frames)
     if not fits.empty and not startup.empty:
         built.append(tables.startup_vs_spheres(startup))
+    if not halves.empty or refusals:
+        built.append(precision.half_precision_table(halves, refusals))
     checked = findings.evaluate(
-        summary, inputs.frames, met, inputs.thesis_tables, thesis_metrics, tables.sizes(summary)[0], occupancy
+        summary,
+        inputs.frames,
+        met,
+        inputs.thesis_tables,
+        thesis_metrics,
+        tables.sizes(f32_summary if len(f32_summary) else summary)[0],
+        occupancy,
+        refusals,
     )
     built.append(findings.findings_table(checked))
     warnings = collect_warnings(inputs, summary)
@@ -143,18 +155,34 @@ def compute(inputs: ReportInputs) -> ReportResults:
         occupancy=occupancy,
         gpu_variants=variants,
         findings=checked,
+        half_precision=halves,
     )
 
 
+def check_inputs(inputs: ReportInputs, summary: pd.DataFrame):
+    """What the findings need besides the summary: the metrics table and the
+    lane occupancy (of the f32 configurations), the thesis' metrics, the
+    half-precision table and the f16 probes' refusals."""
+    f32_summary = names.at_f32(summary)
+    cores = int(inputs.frames[names.LOGICAL_CORES].max())
+    met = metrics.metrics_table(f32_summary, cores, inputs.gpu_estimates, inputs.gpu_override)
+    thesis_metrics = thesis.reported_vs_recomputed(inputs.thesis_tables, inputs.thesis_reported)
+    occupancy = metrics.lane_occupancy(names.at_f32(inputs.frames))
+    halves = precision.half_precision(summary, inputs.frames)
+    return met, thesis_metrics, occupancy, halves, precision.refused(inputs.manifests)
+
+
 def build_tables(summary, met, thesis_metrics, thesis_tables, fits) -> list[tables.Table]:
-    """Tables 1-4 per image size, then the comparisons, the cost vs spheres
-    (where the run has it), then everything. A thesis table where none of
+    """Tables 1-4 per image size, then the comparisons (of the f32
+    configurations), the cost vs spheres (where the run has it), then
+    everything. A thesis table where none of
     its renderers ran at its stage and size is left out (a gpu-only
     1920x1080 leaves table 2, simd_only and tbb_only, empty; a run of
     stage optimized only tables 1-3); the README says which
     (_missing_tables_note)."""
-    sizes = tables.sizes(summary)
-    scenes = _scene_order(summary, thesis_tables)
+    everything, summary = summary, names.at_f32(summary)
+    sizes = tables.sizes(summary if len(summary) else everything)
+    scenes = _scene_order(everything, thesis_tables)
     built = []
     for size in sizes:
         for spec in thesis.table_layout(thesis_tables):
@@ -169,7 +197,7 @@ def build_tables(summary, met, thesis_metrics, thesis_tables, fits) -> list[tabl
     built.append(tables.thesis_published(thesis_metrics))
     if not fits.empty:
         built.append(tables.cost_vs_spheres(fits))
-    built.append(tables.summary_table(summary))
+    built.append(tables.summary_table(everything))
     return built
 
 
@@ -217,7 +245,17 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
         metavar="RUN_DIR",
         help="run directory written by scripts/bench, or a run archive (.tar.xz, data/reference-runs/README.md)",
     )
-    parser.add_argument("-o", "--output", type=Path, default=Path("report"), help="report directory (default: report/)")
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        help="report directory (default: report/); with --findings the Markdown file (default: standard output)",
+    )
+    parser.add_argument(
+        "--findings",
+        action="store_true",
+        help="instead of a report: the thesis' findings of each run side by side, one column per run (not pooled)",
+    )
     parser.add_argument(
         "--gpu-p",
         type=float,
@@ -232,6 +270,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     if not all(math.isfinite(b) and b > 0 for b in args.budget_ms):
         parser.error("--budget-ms must be positive numbers of milliseconds")
 
+    if args.findings:
+        return findings_side_by_side(parser.prog, args)
+    args.output = args.output or Path("report")
     try:
         with archive.unpacked(args.run_dirs) as run_dirs:  # a committed run archive reads as its directory
             inputs = gather(run_dirs, args.gpu_p, tuple(args.budget_ms))
@@ -245,6 +286,38 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
         for w in results.warnings:
             print(f"warning: {w}", file=sys.stderr)
     return 0
+
+
+def findings_side_by_side(prog: str, args: argparse.Namespace) -> int:
+    """--findings: the verdicts table of the runs (rtbench.verdicts), to -o or standard output."""
+    try:
+        with archive.unpacked(args.run_dirs) as run_dirs:
+            columns = []
+            for run_dir in run_dirs:
+                inputs = gather([run_dir], args.gpu_p)
+                columns.append((verdicts.run_label(run_dir, inputs.frames), evaluate_findings(inputs)))
+    except (load.RunDataError, thesis.ThesisDataError) as e:
+        print(f"{prog}: {e}", file=sys.stderr)
+        return 1
+    text = verdicts.side_by_side(columns)
+    if args.output is None:
+        print(text, end="")
+        return 0
+    atomic.write_text(args.output, text)
+    if not args.quiet:
+        print(f"findings: {args.output} ({len(columns)} runs)")
+    return 0
+
+
+def evaluate_findings(inputs: ReportInputs) -> pd.DataFrame:
+    """The findings of one run (findings.COLUMNS), as its report computes them."""
+    summary = stats.summarize_configs(inputs.frames)
+    met, thesis_metrics, occupancy, _, refusals = check_inputs(inputs, summary)
+    f32 = names.at_f32(summary)
+    size = tables.sizes(f32 if len(f32) else summary)[0]
+    return findings.evaluate(
+        summary, inputs.frames, met, inputs.thesis_tables, thesis_metrics, size, occupancy, refusals
+    )
 
 
 # --- writing ---------------------------------------------------------------------
@@ -287,14 +360,16 @@ def write_data(inputs: ReportInputs, results: ReportResults, out: Path) -> list[
         files["lane_occupancy.csv"] = results.occupancy
     if not results.gpu_variants.empty:
         files["gpu_variants.csv"] = results.gpu_variants
+    if not results.half_precision.empty:
+        files["half_precision.csv"] = results.half_precision
     return [atomic.write_text(out / name, df.to_csv(index=False, float_format="%.17g")) for name, df in files.items()]
 
 
 def draw_figures(inputs: ReportInputs, results: ReportResults, out: Path) -> dict[str, list[Path]]:
     """Every figure; an empty list where the run has no data for one."""
-    frames = inputs.frames
+    frames = names.at_f32(inputs.frames)
     return {
-        "render_ms": plots.render_bars(results.summary, out / "render_ms"),
+        "render_ms": plots.render_bars(names.at_f32(results.summary), out / "render_ms"),
         "thesis_speedups": plots.thesis_speedups(_speedup_pairs(results, inputs), out / "thesis_speedups"),
         "scaling": plots.speedup_vs_threads(results.scaling, out / "scaling"),
         "karp_flatt": plots.karp_flatt_vs_p(results.metrics, out / "karp_flatt"),
@@ -365,6 +440,7 @@ def readme(inputs: ReportInputs, results: ReportResults, figures: dict[str, list
         tables.to_markdown(by_slug["thesis-metrics-recomputed"]),
         _cost_section(by_slug, figures, out),
         _gpu_variants_section(by_slug),
+        _half_precision_section(by_slug),
         _occupancy_section(by_slug, results.occupancy),
         "## Frame budget\n",
         tables.to_markdown(by_slug["frame-budget"]),
@@ -462,6 +538,24 @@ sphere test in its intersection shader; with reorder `hit` the invocations
 are reordered by the sphere they hit before shading
 (VK_NV_ray_tracing_invocation_reorder). Its × gpu column compares it with the
 gpu renderer's default variant on its BVH at the same stage, scene and size.
+"""
+
+
+def _half_precision_section(by_slug: dict[str, tables.Table]) -> str:
+    """The f16 configurations beside their f32 twins, where the run has
+    them or the bench's probe refused them."""
+    if precision.SLUG not in by_slug:
+        return ""
+    return "\n".join([f"## {precision.TITLE}\n", HALF_PRECISION_TEXT, tables.to_markdown(by_slug[precision.SLUG])])
+
+
+HALF_PRECISION_TEXT = """The thesis tried halving the SIMD precision between its first two stages
+(eight f16 lanes per register instead of four f32 ones) and dropped it: twice
+as fast, but the image unusable (docs/thesis.md, "Stages"). Here each f16
+configuration runs beside its f32 twin, and each image of frame 0 is compared
+with the double-precision reference under the rule every renderer is tested
+by. [`data/half_precision.csv`](data/half_precision.csv) has the figures at
+full precision; claim 8 of the findings is the verdict.
 """
 
 
@@ -607,7 +701,7 @@ def _skipped_groups(manifests: list[dict | None]) -> dict[tuple[str, str, str], 
             if r.get("status") != RunStatus.UNAVAILABLE:
                 continue
             options = " ".join(configurations.probe_args(configs.get(r.get("config")) or {}))
-            groups.setdefault((renderer, options, _probe_reason(r)), []).append(r)
+            groups.setdefault((renderer, options, probe_reason(r)), []).append(r)
     by_renderer: dict[str, int] = {}
     for (renderer, _, _), runs in groups.items():
         by_renderer[renderer] = by_renderer.get(renderer, 0) + len(runs)
@@ -621,29 +715,12 @@ def _skipped_groups(manifests: list[dict | None]) -> dict[tuple[str, str, str], 
 def _skipped_line(what: tuple[str, str, str], runs: list[dict]) -> str:
     renderer, options, reason = what
     which = f"every {renderer} run" + (f" with `{options}`" if options else "")
-    return f"| {which} ({len(runs)}) | skipped: its probe failed | | {reason} |"
+    cell = reason.replace("|", "\\|")
+    return f"| {which} ({len(runs)}) | skipped: its probe failed | | {cell} |"
 
 
 def _reason(run: dict) -> str:
     return " ".join((run.get("stderr_tail") or "").split())[-200:].replace("|", "\\|")
-
-
-# The longest probe reason a line of the table shows.
-PROBE_REASON_CHARS = 300
-
-
-def _probe_reason(run: dict) -> str:
-    """What a failed probe said: its exit status and the last line of its
-    output, the error itself (a binary that does not know the flag prints
-    its usage before it; the tail of that would hide the error's start)."""
-    text = (run.get("stderr_tail") or "").strip()
-    exit_status = re.match(r"exit -?\d+: ", text)
-    prefix = exit_status.group(0) if exit_status else ""
-    lines = [line.strip() for line in text[len(prefix) :].splitlines() if line.strip()]
-    reason = prefix + (lines[-1] if lines else "")
-    if len(reason) > PROBE_REASON_CHARS:
-        reason = reason[: PROBE_REASON_CHARS - 1] + "…"
-    return reason.replace("|", "\\|")
 
 
 def how_to_read(summary: pd.DataFrame) -> str:

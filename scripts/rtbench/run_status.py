@@ -11,6 +11,7 @@ words read back from a manifest, and json and f-strings write the word.
 
 from __future__ import annotations
 
+import re
 from enum import StrEnum
 
 
@@ -36,3 +37,22 @@ class ManifestStatus(StrEnum):
 # The runs that an unfinished run has not run, and `scripts/bench --resume`
 # runs: failed and unavailable runs ran (or never can) and are not missing.
 NOT_RUN = (RunStatus.PENDING, RunStatus.INTERRUPTED)
+
+
+# The longest probe reason the report shows.
+PROBE_REASON_CHARS = 300
+
+
+def probe_reason(run: dict) -> str:
+    """What a failed probe said, from an unavailable run's stderr_tail: its
+    exit status and the last line of its output, the error itself (a binary
+    that does not know the flag prints its usage before it; the tail of that
+    would hide the error's start)."""
+    text = (run.get("stderr_tail") or "").strip()
+    exit_status = re.match(r"exit -?\d+: ", text)
+    prefix = exit_status.group(0) if exit_status else ""
+    lines = [line.strip() for line in text[len(prefix) :].splitlines() if line.strip()]
+    reason = prefix + (lines[-1] if lines else "")
+    if len(reason) > PROBE_REASON_CHARS:
+        reason = reason[: PROBE_REASON_CHARS - 1] + "…"
+    return reason

@@ -45,6 +45,23 @@ def percentile_interval(samples: np.ndarray, confidence: float = CONFIDENCE) -> 
     return (float(lo), float(hi))
 
 
+def median_ratio_ci(
+    numerator, denominator, seed: int = BOOTSTRAP_SEED, resamples: int = BOOTSTRAP_RESAMPLES
+) -> tuple[float, float, float]:
+    """median(numerator) / median(denominator) (a speedup: the slower side's
+    times over the faster one's) and its percentile-bootstrap CI: each side's
+    values resampled on their own, the ratio of each resample's medians.
+    NaN where either side is empty. Seeded, numerator first, as
+    findings.figure_ci resamples a two-configuration figure."""
+    a, b = finite(numerator), finite(denominator)
+    if a.size == 0 or b.size == 0:
+        return math.nan, math.nan, math.nan
+    rng = np.random.default_rng(seed)
+    ratios = resampled_medians(a, rng, resamples) / resampled_medians(b, rng, resamples)
+    low, high = percentile_interval(ratios)
+    return float(np.median(a) / np.median(b)), low, high
+
+
 def median(values) -> float:
     x = finite(values)
     return float(np.median(x)) if x.size else math.nan
@@ -178,19 +195,19 @@ def coefficient_of_variation(values) -> float:
 
 
 def config_label(row) -> str:
-    """scene/renderer/stage[/tN][/lN][/accel[/traversal][/gpu variants]]: a
+    """scene/renderer/stage[/tN][/lN][/accel[/traversal][/gpu variants]][/f16]: a
     configuration's name in warnings, with the threads and lanes where its
     renderer takes them, the accel where it is not brute force, the traversal
     where it is not packets and the GPU variants where they are not the
-    defaults (names.accel_tag)."""
+    defaults, the precision where it is not f32 (names.accel_tag)."""
     options = "".join(f"/{option[0]}{value}" for option, value in names.label_options(row))
     accel = "".join(f"/{tag}" for tag in names.accel_tag(row))
     return f"{row[names.SCENE]}/{row[names.RENDERER]}/{row[names.STAGE]}{options}{accel}"
 
 
 def sort_configs(df: pd.DataFrame) -> pd.DataFrame:
-    """Stage, scene, renderer, accel, traversal, the GPU variants (schema order
-    where the schema has one), threads, lanes."""
+    """Stage, scene, renderer, accel, traversal, the GPU variants, the
+    precision (schema order where the schema has one), threads, lanes."""
     gpu = {f"_{axis}": df[axis].map(lambda v, a=axis: names.gpu_order(a, v)) for axis in names.GPU_AXES}
     key = df.assign(
         _stage=df[names.STAGE].map(names.stage_order),
@@ -198,8 +215,10 @@ def sort_configs(df: pd.DataFrame) -> pd.DataFrame:
         _accel=df[names.ACCEL].map(names.accel_order),
         _traversal=df[names.TRAVERSAL].map(names.traversal_order),
         **gpu,
+        _precision=df[names.PRECISION].map(names.precision_order),
     )
-    helpers = ["_stage", "_renderer", "_accel", "_traversal", *gpu]
-    order = ["_stage", names.SCENE, "_renderer", "_accel", "_traversal", *gpu, names.THREADS, names.LANES, names.WIDTH]
+    helpers = ["_stage", "_renderer", "_accel", "_traversal", *gpu, "_precision"]
+    order = ["_stage", names.SCENE, "_renderer", "_accel", "_traversal", *gpu, "_precision"]
+    order += [names.THREADS, names.LANES, names.WIDTH]
     key = key.sort_values(order, kind="stable")
     return key.drop(columns=helpers).reset_index(drop=True)

@@ -137,12 +137,14 @@ def sizes(summary: pd.DataFrame) -> list[tuple[int, int]]:
     return [(int(w), int(h)) for w, h in zip(counts[names.WIDTH], counts[names.HEIGHT])]
 
 
-def headline_rows(summary: pd.DataFrame) -> pd.DataFrame:
+def headline_rows(summary: pd.DataFrame, precision: str = names.F32) -> pd.DataFrame:
     """One configuration per (scene, renderer, stage, size, build) as the
-    thesis ran it: brute force (accel none), and of those the one with the
-    most threads x lanes, i.e. the whole machine, and the GPU renderer's
-    default variant (one_gpu_variant). All others stay in the summary table."""
-    return one_gpu_variant(widest_rows(summary[summary[names.ACCEL] == names.BRUTE_FORCE]))
+    thesis ran it: brute force (accel none) in f32, and of those the one with
+    the most threads x lanes, i.e. the whole machine, and the GPU renderer's
+    default variant (one_gpu_variant). All others stay in the summary table;
+    `precision` f16 picks the half-precision experiment's rows instead."""
+    chosen = summary[(summary[names.ACCEL] == names.BRUTE_FORCE) & (summary[names.PRECISION] == precision)]
+    return one_gpu_variant(widest_rows(chosen))
 
 
 # What a configuration is but for its threads and lanes (widest_rows) or its GPU variant (one_gpu_variant).

@@ -36,6 +36,8 @@ class SyntheticConfig:
     gpu_schedule: str = ""
     gpu_path: str = ""
     gpu_rt_reorder: str = ""
+    # "" as a CSV from before the precision axis would read (f32); else f32 or f16.
+    precision: str = ""
 
     @property
     def id(self) -> str:
@@ -64,6 +66,7 @@ class SyntheticConfig:
             names.GPU_SCHEDULE: self.gpu_schedule,
             names.GPU_PATH: self.gpu_path,
             names.GPU_RT_REORDER: self.gpu_rt_reorder,
+            names.PRECISION: self.precision,
             names.WIDTH: self.width,
             names.HEIGHT: self.height,
         }
@@ -118,7 +121,22 @@ def _unset(column: str):
     return 0 if names.COLUMN_TYPES[column] == "int" and column not in names.OPTIONAL_COLUMNS else ""
 
 
-def metadata(run_id: str, config: SyntheticConfig, warmup: int, measured: int, env: Environment) -> dict:
+def agreement(within: float, psnr_db: float | None, max_difference: int) -> dict:
+    """The metadata's agreement object of a run with --agreement (psnr_db None: identical images)."""
+    return {
+        "reference": "double",
+        "frame": 0,
+        "tolerance": 2,
+        names.WITHIN_TOLERANCE: within,
+        names.PSNR_DB: psnr_db,
+        names.MAX_CHANNEL_DIFFERENCE: max_difference,
+    }
+
+
+def metadata(
+    run_id: str, config: SyntheticConfig, warmup: int, measured: int, env: Environment, agreed: dict | None = None
+) -> dict:
+    """`agreed`: the agreement object (agreement()), None for a run without --agreement."""
     columns = config.columns()
     return {
         "schema_version": names.SCHEMA_VERSION,
@@ -145,7 +163,10 @@ def metadata(run_id: str, config: SyntheticConfig, warmup: int, measured: int, e
             "warmup_frames": warmup,
             "measured_frames": measured,
             "present": "none",
+            "precision": names.precision_of(config.precision),
+            "agreement": agreed is not None,
         },
+        "agreement": agreed,
         "build": {
             "version": "0.0.0",
             "git_commit": env.git_commit,
@@ -169,12 +190,17 @@ def write_run_dir(
     env: Environment | None = None,
     present_ms: float = 0.0,
     counters: dict[SyntheticConfig, dict[str, list]] | None = None,
+    agreements: dict[SyntheticConfig, dict] | None = None,
+    unavailable: dict[SyntheticConfig, str] | None = None,
 ) -> Path:
     """A run directory: for each configuration one run per list of render
     times (the first `warmup` of each are warm-up frames), every frame's
     Present phase taking `present_ms`; `counters`: for a configuration, each
     counter column's value per frame (the same in every repetition), and
-    other per-frame columns such as gpu_ms likewise."""
+    other per-frame columns such as gpu_ms likewise; `agreements`: a
+    configuration's agreement object (agreement()); `unavailable`: configurations
+    the bench's probe refused, with what the probe said (no data, one
+    unavailable run each in the manifest)."""
     env = env or Environment()
     entries = []
     for config, repetitions in runs.items():
@@ -184,8 +210,9 @@ def write_run_dir(
             stem = f"{load.FRAMES_DIR}/{config.id}-r{rep}"
             text = csv_text(run_id, config, times, warmup, env.device, present_ms, (counters or {}).get(config))
             atomic.write_text(out / f"{stem}.csv", text)
+            agreed = (agreements or {}).get(config)
             atomic.write_json(
-                out / f"{stem}{load.META_SUFFIX}", metadata(run_id, config, warmup, len(times) - warmup, env)
+                out / f"{stem}{load.META_SUFFIX}", metadata(run_id, config, warmup, len(times) - warmup, env, agreed)
             )
             entries.append(
                 {
@@ -197,6 +224,17 @@ def write_run_dir(
                     "status": RunStatus.OK,
                 }
             )
+    for config, reason in (unavailable or {}).items():
+        entries.append(
+            {
+                "config": config.id,
+                "repetition": 0,
+                "renderer": config.renderer,
+                "status": RunStatus.UNAVAILABLE,
+                "stderr_tail": reason,
+            }
+        )
+    configs = [{"id": c.id, "renderer": c.renderer, "precision": c.precision} for c in [*runs, *(unavailable or {})]]
     atomic.write_json(
         out / load.MANIFEST,
         {
@@ -204,6 +242,7 @@ def write_run_dir(
             "status": ManifestStatus.COMPLETE,
             "profile": {"name": "synthetic"},
             "host": {"cpu_governors": ["performance"]},
+            "configs": configs,
             "runs": entries,
         },
     )

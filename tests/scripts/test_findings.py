@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from synthetic_runs import Environment, SyntheticConfig, write_run_dir
+from synthetic_runs import Environment, SyntheticConfig, agreement, write_run_dir
 
 from rtbench import findings, names, report_writer
 
@@ -41,9 +41,11 @@ SHAPE = {"sequential": (1, 1), "simd_tbb": (8, 4), "simd_only": (1, 4), "tbb_onl
 GPU_P = 1024.0
 
 
-def config(renderer: str, stage: str) -> SyntheticConfig:
+def config(renderer: str, stage: str, precision: str = "") -> SyntheticConfig:
     threads, lanes = SHAPE[renderer]
-    return SyntheticConfig(scene=SCENE, renderer=renderer, stage=stage, threads=threads, lanes=lanes)
+    return SyntheticConfig(
+        scene=SCENE, renderer=renderer, stage=stage, threads=threads, lanes=lanes, precision=precision
+    )
 
 
 def frames_around(ms: float, spread: float, n: int = 15) -> list[float]:
@@ -51,11 +53,12 @@ def frames_around(ms: float, spread: float, n: int = 15) -> list[float]:
     return [ms * 3, *(ms * (1 + spread * k) for k in np.linspace(-1, 1, n))]
 
 
-def checked(tmp_path, times=None, spread=0.01, spreads=None, env=None, leave_out=(), counters=None):
+def checked(tmp_path, times=None, spread=0.01, spreads=None, env=None, leave_out=(), counters=None, **more):
     """The findings table of a synthetic run with `times` (ms by (renderer,
-    stage); default the thesis'), each configuration's frames within +-spread
-    (`spreads` per configuration), less the configurations in `leave_out`,
-    `counters` as write_run_dir takes them; by claim."""
+    stage), or (renderer, stage, precision); default the thesis'), each
+    configuration's frames within +-spread (`spreads` per configuration),
+    less the configurations in `leave_out`, `counters` and `more`
+    (agreements, unavailable) as write_run_dir takes them; by claim."""
     times = dict(THESIS_MS if times is None else times)
     spreads = spreads or {}
     runs = {
@@ -63,7 +66,7 @@ def checked(tmp_path, times=None, spread=0.01, spreads=None, env=None, leave_out
         for key, ms in times.items()
         if key not in leave_out and key[0] not in leave_out and key[1] not in leave_out
     }
-    run = write_run_dir(tmp_path / "run", runs, env=env, counters=counters)
+    run = write_run_dir(tmp_path / "run", runs, env=env, counters=counters, **more)
     results = report_writer.compute(report_writer.gather([run], gpu_override=GPU_P))
     return {r["claim"]: r for r in results.findings.to_dict("records")}
 
@@ -93,7 +96,7 @@ def test_every_claim_has_a_region_and_the_f16_row_names_its_fields():
 
 def test_the_thesis_own_times_reproduce_every_claim(tmp_path):
     rows = checked(tmp_path)
-    measured = {k: r for k, r in rows.items() if k != "8"}
+    measured = {k: r for k, r in rows.items() if k not in ("8", "8b")}
     assert {k: r["verdict"] for k, r in measured.items()} == {k: findings.REPRODUCED for k in measured}
     # The figure is the thesis' own (its times, its p) and the CI holds it.
     for key, r in measured.items():
@@ -109,11 +112,75 @@ def test_the_thesis_own_times_reproduce_every_claim(tmp_path):
     assert all(r["reason"] == "" for r in measured.values())
 
 
-def test_half_precision_is_not_measured_and_names_what_it_needs(tmp_path):
-    row = checked(tmp_path)["8"]
-    assert row["verdict"] == findings.NOT_MEASURED
-    assert "no f16 ablation in this run" in row["reason"]
-    assert "precision" in row["reason"]
+def test_half_precision_without_f16_runs_is_not_measured_and_says_how_to_run_it(tmp_path):
+    rows = checked(tmp_path)
+    for key, renderer in (("8", "simd_only"), ("8b", "gpu")):
+        assert rows[key]["verdict"] == findings.NOT_MEASURED, key
+        assert f"no f16 run of {SCENE}/{renderer}/original" in rows[key]["reason"], key
+        assert "precisions" in rows[key]["reason"], key
+    assert rows["8"]["thesis_stated"] == 2.0
+    assert "not a thesis claim" in rows["8b"]["text"]
+
+
+# An f16 image the render model's rule fails, and one it passes (docs/render-model.md section 8).
+RUINED = agreement(0.62, 21.5, 140)
+FINE = agreement(0.9991, 48.0, 6)
+IDENTICAL = agreement(1.0, None, 0)
+
+
+def f16_run(tmp_path, renderer, speedup, image, f32_image=IDENTICAL, spread=0.01):
+    """The thesis' run plus `renderer` at original in f16, `speedup` times
+    faster than its f32 time, each with the agreement object given (None:
+    no --agreement)."""
+    times = {**THESIS_MS, (renderer, "original", "f16"): THESIS_MS[(renderer, "original")] / speedup}
+    agreed = {config(renderer, "original"): f32_image, config(renderer, "original", "f16"): image}
+    return checked(tmp_path, times, spread=spread, agreements={k: v for k, v in agreed.items() if v})
+
+
+@pytest.mark.parametrize(
+    "speedup, image, expected",
+    [
+        (2.0, RUINED, findings.REPRODUCED),
+        (2.0, FINE, findings.NOT_REPRODUCED),  # twice as fast, but the image is fine
+        (1.0, RUINED, findings.NOT_REPRODUCED),  # ruined, but no faster
+        (5.0, RUINED, findings.NOT_REPRODUCED),  # far more than about 2x
+        (2.0, None, findings.NOT_MEASURED),  # no --agreement: the image part is unknown
+    ],
+)
+def test_half_precision_needs_about_twice_the_speed_and_a_ruined_image(tmp_path, speedup, image, expected):
+    row = f16_run(tmp_path, "simd_only", speedup, image)["8"]
+    assert row["verdict"] == expected
+    assert row["measured"] == pytest.approx(speedup, rel=1e-6)
+    assert row["ci_low"] <= row["measured"] <= row["ci_high"]
+    assert "f32: simd_only" in row["configurations"] and "f16: simd_only" in row["configurations"]
+    if image is RUINED:
+        assert "62.0%, 21.5 dB, max 140: fails" in row["reason"]
+    if image is None:
+        assert "no --agreement" in row["reason"]
+
+
+def test_half_precision_straddling_about_2x_is_inconclusive(tmp_path):
+    # 3x is the upper line of "about 2x"; frames spread +-30 % put the CI across it.
+    row = f16_run(tmp_path, "simd_only", 2.0 * findings.ABOUT, RUINED, spread=0.3)["8"]
+    assert row["ci_low"] < 2.0 * findings.ABOUT < row["ci_high"]
+    assert row["verdict"] == findings.INCONCLUSIVE
+
+
+def test_a_refused_simd_f16_is_not_measured_with_the_probe_line_and_the_gpu_row_shows(tmp_path):
+    refusal = "exit 2: --precision f16: the CPU's Highway target (AVX3) has no native f16 arithmetic"
+    times = {**THESIS_MS, ("gpu", "original", "f16"): THESIS_MS[("gpu", "original")] / 2}
+    rows = checked(
+        tmp_path,
+        times,
+        agreements={config("gpu", "original", "f16"): RUINED},
+        unavailable={config("simd_only", "original", "f16"): refusal},
+    )
+    assert rows["8"]["verdict"] == findings.NOT_MEASURED
+    assert f"f16 refused: {refusal}" in rows["8"]["reason"]
+    assert rows["8b"]["verdict"] == findings.REPRODUCED
+    assert rows["8b"]["measured"] == pytest.approx(2.0, rel=1e-6)
+    # The f16 run stays out of every other claim: claim 6a still sees the f32 gpu.
+    assert rows["6a"]["measured"] == pytest.approx(38236 / 51.48, rel=1e-6)
 
 
 def test_clearly_not_reproduced(tmp_path):
@@ -199,5 +266,5 @@ def test_the_report_has_the_section_and_its_csv(tmp_path):
     assert (tmp_path / "report" / "tables" / "thesis-findings.tex").is_file()
     with (tmp_path / "report" / "data" / "thesis_findings.csv").open() as f:
         rows = list(csv.DictReader(f))
-    assert [r["claim"] for r in rows] == [*(c.key for c in findings.CLAIMS), "8"]
+    assert [r["claim"] for r in rows] == [*(c.key for c in findings.CLAIMS), "8", "8b"]
     assert {r["verdict"] for r in rows} == {findings.REPRODUCED, findings.NOT_MEASURED}

@@ -90,11 +90,11 @@ def test_thesis_karp_flatt_is_recomputed_and_said_so(generated):
 
 def test_findings_of_the_thesis_own_times_are_the_thesis_figures(generated):
     """The fixture is the thesis' times: each claim's figure is the one its
-    own table gives (findings.py), and half precision is not measured."""
+    own table gives (findings.py), and half precision (no f16 run) is not measured."""
     found = pd.read_csv(generated / "data" / "thesis_findings.csv")
-    measured = found[found["claim"] != "8"]
+    measured = found[~found["claim"].isin(["8", "8b"])]
     assert all(math.isclose(m, t, rel_tol=1e-6) for m, t in zip(measured["measured"], measured["thesis"]))
-    assert found.set_index("claim").loc["8", "verdict"] == "not measured"
+    assert set(found.set_index("claim").loc[["8", "8b"], "verdict"]) == {"not measured"}
     assert (generated / "tables" / "thesis-findings.md").is_file()
 
 

@@ -71,6 +71,7 @@ def _frames(values_by_rep, warmup_value=100.0):
                     names.TRAVERSAL: "",
                     names.HYBRID_THRESHOLD: None,
                     **{axis: "" for axis in names.GPU_AXES},
+                    names.PRECISION: names.F32,
                     names.THREADS: 1,
                     names.LANES: 1,
                     names.SIMD_TARGET: "",
