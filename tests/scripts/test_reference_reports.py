@@ -31,7 +31,19 @@ REFERENCES = [
     ("report/gpu-machine", "data/reference-runs/gpu-machine.tar.xz"),
     ("report/gpu-machine-scene-size", "data/reference-runs/gpu-machine-scene-size.tar.xz"),
     ("report/two-core-counters", "data/reference-runs/two-core-counters.tar.xz"),
-    ("report", None),  # the 2-core machine's paper run: its run directory was not kept
+    ("report", "data/reference-runs/two-core-paper.tar.xz"),
+    ("report/two-core-paper-o0", "data/reference-runs/two-core-paper-o0.tar.xz"),
+    ("report/gpu-machine-paper", "data/reference-runs/gpu-machine-paper.tar.xz"),
+    ("report/gpu-machine-paper-o0", "data/reference-runs/gpu-machine-paper-o0.tar.xz"),
+]
+# The thesis' findings of the paper profile on both machines and both builds,
+# side by side (README.md, "Reference results"), and the runs behind it in its column order.
+FINDINGS_SIDE_BY_SIDE = "report/thesis-findings.md"
+FINDINGS_RUNS = [
+    "data/reference-runs/two-core-paper-o0.tar.xz",
+    "data/reference-runs/two-core-paper.tar.xz",
+    "data/reference-runs/gpu-machine-paper-o0.tar.xz",
+    "data/reference-runs/gpu-machine-paper.tar.xz",
 ]
 # The matplotlib that drew the committed figures (Debian 12's).
 FIGURES_MATPLOTLIB = "3.6.3"
@@ -78,6 +90,16 @@ def test_reference_report_regenerates_from_its_run(repo_root, tmp_path, report_d
     figures = [name for name in committed if name not in byte_for_byte]
     resized = [name for name in figures if figure_size(committed[name]) != figure_size(regenerated[name])]
     assert resized == [], f"figures of another size than the committed ones (matplotlib {matplotlib.__version__})"
+
+
+def test_the_side_by_side_findings_regenerate_from_their_runs(repo_root, tmp_path):
+    runs = [str(repo_root / run) for run in FINDINGS_RUNS]
+    written = tmp_path / "thesis-findings.md"
+    assert report_writer.main(["--findings", *runs, "-o", str(written), "-q"]) == 0
+    committed = (repo_root / FINDINGS_SIDE_BY_SIDE).read_bytes()
+    assert written.read_bytes() == committed, (
+        f"regenerate with: scripts/report.py --findings {' '.join(FINDINGS_RUNS)} -o {FINDINGS_SIDE_BY_SIDE}"
+    )
 
 
 def test_a_report_from_an_archive_is_the_report_from_its_directory(tmp_path):
