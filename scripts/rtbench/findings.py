@@ -421,8 +421,9 @@ def _configurations(rows: list[pd.Series]) -> str:
     return "; ".join(f"{what} ({', '.join(st)})" for what, st in stages.items())
 
 
-def _evaluate_one(claim, heads, samples, met, frames, published, thesis_metrics, occupancy) -> dict:
-    base = {
+def _claim_fields(claim: Claim | PrecisionClaim) -> dict:
+    """The columns every row of a claim starts with: what it says and where it holds."""
+    return {
         "claim": claim.key,
         "text": claim.text,
         "figure": claim.figure,
@@ -430,6 +431,12 @@ def _evaluate_one(claim, heads, samples, met, frames, published, thesis_metrics,
         "low": claim.low,
         "high": claim.high,
         "scene": claim.scene,
+    }
+
+
+def _evaluate_one(claim, heads, samples, met, frames, published, thesis_metrics, occupancy) -> dict:
+    base = {
+        **_claim_fields(claim),
         "thesis": _thesis_figure(claim, published),
         "thesis_stated": _stated(claim, thesis_metrics),
     }
@@ -584,13 +591,7 @@ def _evaluate_precision(claim: PrecisionClaim, heads, halves, samples, frames, r
     half = _pick(halves, claim.scene, ref, None)
     twin = None if half is None else _pick(heads, claim.scene, ref, half[names.BUILD_TYPE])
     row = {
-        "claim": claim.key,
-        "text": claim.text,
-        "figure": claim.figure,
-        "line": claim.line,
-        "low": claim.low,
-        "high": claim.high,
-        "scene": claim.scene,
+        **_claim_fields(claim),
         "thesis": math.nan,
         "thesis_stated": claim.stated,
         "configurations": "",
