@@ -21,7 +21,7 @@ import pandas as pd
 from rtbench import names, stats, tables
 from rtbench.run_status import RunStatus, probe_reason
 
-# docs/render-model.md section 8 (src/core/image.h, ImageDifference::agrees):
+# docs/render-model.md section 8 (src/core/image.h, ImageAgreement::agrees):
 # at least 99.5 % of the pixels within 2/255 in each channel, and PSNR >= 40 dB.
 AGREES_WITHIN = 0.995
 AGREES_PSNR_DB = 40.0
