@@ -109,6 +109,15 @@ std::uint64_t bruteForceLoopIterations(std::size_t spheres, int maxDepth, Extent
   return raysEach * (bounces * (spheres + 2) + depth);
 }
 
+// The f16 SPIR-V declares the Float16 capability, which a device may run
+// only with shaderFloat16 enabled at its creation (--precision f16 asks for it).
+void requireHalfPrecision(const Device& device, const RenderOptions& options) {
+  if (options.precision != Precision::f16 || device.shaderFloat16()) return;
+  throw RendererUnavailable(
+      "the GPU renderer computes in half precision (--precision f16) only on a device "
+      "opened with shaderFloat16 (gpu::ContextOptions::shaderFloat16); this one was not");
+}
+
 void refuseLoopsPastLavapipeLimit(const Device& device, const Scene& scene, Extent extent,
                                   const RenderOptions& options) {
   if (options.accel != Accel::none || device.info().driverName != "llvmpipe") return;
@@ -440,6 +449,7 @@ void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions
   gpuMs_.reset();
   counters_.reset();
   requireSubgroupOperations(context_->device(), options);
+  requireHalfPrecision(context_->device(), options);
   refuseLoopsPastLavapipeLimit(context_->device(), scene, extent, options);
   scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
     return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, options, presentMode_);

@@ -327,6 +327,7 @@ Device::Device(const ContextOptions& options) : instance_(options) {
   memory_ = physical_.getMemoryProperties();
   device_ = createLogicalDevice(physical_, queueFamily_, info_, options);
   queue_ = vk::raii::Queue(device_, queueFamily_, 0);
+  shaderFloat16_ = options.shaderFloat16;  // createLogicalDevice refused a device without it
 }
 
 std::uint32_t Device::memoryTypeIndex(std::uint32_t typeBits, vk::MemoryPropertyFlags required,

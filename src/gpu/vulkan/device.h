@@ -79,6 +79,8 @@ class Device {
   [[nodiscard]] const vk::raii::Device& logical() const { return device_; }
   [[nodiscard]] const vk::raii::Queue& queue() const { return queue_; }
   [[nodiscard]] std::uint32_t queueFamily() const { return queueFamily_; }
+  // Whether the device was created with shaderFloat16 enabled (ContextOptions::shaderFloat16).
+  [[nodiscard]] bool shaderFloat16() const { return shaderFloat16_; }
 
   // A memory type allowed by `typeBits` with every `required` property;
   // among those, one that also has the `preferred` ones when there is one.
@@ -94,6 +96,7 @@ class Device {
   vk::PhysicalDeviceMemoryProperties memory_;
   vk::raii::Device device_ = nullptr;
   vk::raii::Queue queue_ = nullptr;
+  bool shaderFloat16_ = false;
 };
 
 }  // namespace rt::gpu

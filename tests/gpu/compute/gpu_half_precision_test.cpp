@@ -144,6 +144,14 @@ TEST_F(GpuHalfPrecision, EveryPathAndBvhGivesTheSameImage) {
   }
 }
 
+// The f16 shader's Float16 capability needs the feature enabled on the
+// device itself: the shared test context was opened without it.
+TEST_F(GpuHalfPrecision, IsRefusedOnADeviceOpenedWithoutShaderFloat16) {
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  EXPECT_THROW(gpu.prepare(loadNamedScene("random20"), kExtent, inPrecision(Precision::f16)), RendererUnavailable);
+  EXPECT_NO_THROW(gpu.prepare(loadNamedScene("random20"), kExtent, inPrecision(Precision::f32)));
+}
+
 TEST_F(GpuHalfPrecision, ReportsItsPrecision) {
   gpu::GPURenderer gpu(halfContext(), PresentMode::upload);
   EXPECT_EQ(gpu.info().precision, Precision::f32);  // before prepare(): the model's own
