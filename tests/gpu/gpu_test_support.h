@@ -68,4 +68,33 @@ class ValidatedGpuTest : public ::testing::Test {
   gpu::ValidationCounts before_;
 };
 
+// Base of the tests that need a second context, opened with options the
+// shared one lacks (ray tracing, shaderFloat16), with validation, whose
+// messages fail a test as the shared context's do. `Needs` says how:
+// options() for the second context, offeredBy(shared context) whether the
+// device has what it needs (asked of Vulkan, not of the code under test),
+// and kWithout, why a test is skipped where it has not.
+template <class Needs>
+class SecondContextGpuTest : public ValidatedGpuTest {
+ protected:
+  static std::shared_ptr<gpu::Context> secondContext() {
+    static const std::shared_ptr<gpu::Context> opened = gpu::Context::open(Needs::options());
+    return opened;
+  }
+  void SetUp() override {
+    ValidatedGpuTest::SetUp();
+    if (!Needs::offeredBy(*context())) GTEST_SKIP() << Needs::kWithout;
+    secondBefore_ = secondContext()->validationMessages();
+  }
+  void TearDown() override {
+    ValidatedGpuTest::TearDown();
+    if (IsSkipped()) return;
+    EXPECT_EQ(secondContext()->validationMessages().total(), secondBefore_.total())
+        << "Vulkan validation messages (printed above)";
+  }
+
+ private:
+  gpu::ValidationCounts secondBefore_;
+};
+
 }  // namespace rt::test

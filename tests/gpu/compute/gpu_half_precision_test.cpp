@@ -50,28 +50,18 @@ TEST(HalfPrecisionDevice, OpensExactlyWhereTheDeviceOffersShaderFloat16) {
   }
 }
 
-// One half-precision context per test process, with validation, checked as
-// the plain one is.
-class GpuHalfPrecision : public ValidatedGpuTest {
+// One half-precision context per test process, with validation.
+struct HalfPrecisionNeeds {
+  static gpu::ContextOptions options() { return halfPrecisionOptions(); }
+  static bool offeredBy(const gpu::Context& plain) { return offersShaderFloat16(plain); }
+  static constexpr const char* kWithout =
+      "this device offers no shaderFloat16 (HalfPrecisionDevice.OpensExactlyWhereTheDeviceOffersShaderFloat16 "
+      "checks the refusal)";
+};
+
+class GpuHalfPrecision : public SecondContextGpuTest<HalfPrecisionNeeds> {
  protected:
-  static std::shared_ptr<gpu::Context> halfContext() {
-    static const std::shared_ptr<gpu::Context> opened = gpu::Context::open(halfPrecisionOptions());
-    return opened;
-  }
-  void SetUp() override {
-    ValidatedGpuTest::SetUp();
-    if (!offersShaderFloat16(*context())) {
-      GTEST_SKIP() << "this device offers no shaderFloat16 "
-                      "(HalfPrecisionDevice.OpensExactlyWhereTheDeviceOffersShaderFloat16 checks the refusal)";
-    }
-    halfBefore_ = halfContext()->validationMessages();
-  }
-  void TearDown() override {
-    ValidatedGpuTest::TearDown();
-    if (IsSkipped()) return;
-    EXPECT_EQ(halfContext()->validationMessages().total(), halfBefore_.total())
-        << "Vulkan validation messages (printed above)";
-  }
+  static std::shared_ptr<gpu::Context> halfContext() { return secondContext(); }
 
   static Image renderFrameZero(const Scene& scene, const RenderOptions& options) {
     gpu::GPURenderer gpu(halfContext(), PresentMode::upload);
@@ -82,9 +72,6 @@ class GpuHalfPrecision : public ValidatedGpuTest {
     gpu.readPresented(image);
     return image;
   }
-
- private:
-  gpu::ValidationCounts halfBefore_;
 };
 
 RenderOptions inPrecision(Precision precision, Stage stage = Stage::optimized) {

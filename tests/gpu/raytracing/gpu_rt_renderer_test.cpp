@@ -104,32 +104,18 @@ bool offersRayTracing(const gpu::Context& plain) {
   return has(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME) && has(VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME);
 }
 
-// One ray-tracing context per test process, with validation; its
-// destruction is checked as the plain one's is (no messages).
-class RayTracingGpuTest : public ValidatedGpuTest {
- protected:
-  static std::shared_ptr<gpu::Context> rayTracingContext() {
-    static const std::shared_ptr<gpu::Context> opened = gpu::Context::open(rayTracingOptions());
-    return opened;
-  }
-  void SetUp() override {
-    ValidatedGpuTest::SetUp();
-    if (!offersRayTracing(*context())) {
-      GTEST_SKIP()
-          << "this device offers no ray-tracing pipeline (RayTracingDevice.IsRefusedWhereTheExtensionsAreMissing "
-             "checks the refusal)";
-    }
-    rtBefore_ = rayTracingContext()->validationMessages();
-  }
-  void TearDown() override {
-    ValidatedGpuTest::TearDown();
-    if (IsSkipped()) return;
-    const gpu::ValidationCounts after = rayTracingContext()->validationMessages();
-    EXPECT_EQ(after.total(), rtBefore_.total()) << "Vulkan validation messages (printed above)";
-  }
+// One ray-tracing context per test process, with validation.
+struct RayTracingNeeds {
+  static gpu::ContextOptions options() { return rayTracingOptions(); }
+  static bool offeredBy(const gpu::Context& plain) { return offersRayTracing(plain); }
+  static constexpr const char* kWithout =
+      "this device offers no ray-tracing pipeline (RayTracingDevice.IsRefusedWhereTheExtensionsAreMissing checks "
+      "the refusal)";
+};
 
- private:
-  gpu::ValidationCounts rtBefore_;
+class RayTracingGpuTest : public SecondContextGpuTest<RayTracingNeeds> {
+ protected:
+  static std::shared_ptr<gpu::Context> rayTracingContext() { return secondContext(); }
 };
 
 // Runs everywhere: a device without the extensions is refused with a
