@@ -367,7 +367,7 @@ def evaluate(
     (precision.refused)."""
     claims = CLAIMS if claims is None else claims
     heads, halves = (_at_size(tables.headline_rows(summary, p), size) for p in (names.F32, names.F16))
-    samples = _frame_samples(frames)
+    samples = stats.samples_by_config(frames)
     published = pd.DataFrame(thesis_tables).drop_duplicates(["stage", "renderer", "scene"])
     rows = [_evaluate_one(c, heads, samples, met, frames, published, thesis_metrics, occupancy) for c in claims]
     rows += [_evaluate_precision(c, heads, halves, samples, frames, refused or {}) for c in F16_CLAIMS]
@@ -376,18 +376,6 @@ def evaluate(
 
 def _at_size(rows: pd.DataFrame, size: tuple[int, int]) -> pd.DataFrame:
     return rows[(rows[names.WIDTH] == size[0]) & (rows[names.HEIGHT] == size[1])]
-
-
-def _key(row) -> tuple[str, ...]:
-    return tuple(str(row[k]) for k in names.CONFIG_KEYS)
-
-
-def _frame_samples(frames: pd.DataFrame) -> dict[tuple[str, ...], np.ndarray]:
-    """Each configuration's measured render times, by its CONFIG_KEYS as strings."""
-    out = {}
-    for key, group in stats.measured(frames).groupby(names.CONFIG_KEYS, sort=False, dropna=False):
-        out[tuple(str(k) for k in key)] = stats.finite(group[names.RENDER_MS].to_numpy())
-    return out
 
 
 def _pick(heads: pd.DataFrame, scene: str, ref: Ref, build: str | None) -> pd.Series | None:
@@ -404,9 +392,9 @@ def _p_of(met: pd.DataFrame, row: pd.Series) -> float:
     the GPU's estimate); NaN where the metrics table has no row for it."""
     if met.empty:
         return math.nan
-    key = _key(row)
+    key = stats.config_key(row)
     for _, r in met.iterrows():
-        if _key(r) == key:
+        if stats.config_key(r) == key:
             return float(r["p"])
     return math.nan
 
@@ -458,7 +446,7 @@ def _evaluate_one(claim, heads, samples, met, frames, published, thesis_metrics,
             "reason": f"not in this run: {which}",
         }
     p = {k: _p_of(met, r) for k, r in rows.items()}
-    data = {k: samples.get(_key(r), np.array([])) for k, r in rows.items()}
+    data = {k: samples.get(stats.config_key(r), np.array([])) for k, r in rows.items()}
     value, low, high = figure_ci(claim.compute, data, p)
     result = verdict(low, high, claim.low, claim.high)
     reason = ""
@@ -564,9 +552,9 @@ def _reason(claim: Claim, rows: list[pd.Series], frames: pd.DataFrame, occupancy
         if widths:
             parts.append(f"vector width {', '.join(widths)} (thesis {THESIS_LANES} lanes NEON)")
     if OCCUPANCY in claim.factors and occupancy is not None and not occupancy.empty:
-        keys = {_key(r) for r in rows if r[names.RENDERER] in SIMD_RENDERERS}
+        keys = {stats.config_key(r) for r in rows if r[names.RENDERER] in SIMD_RENDERERS}
         for _, o in occupancy.iterrows():
-            if _key(o) in keys and math.isfinite(o[metrics.MASKED_SHARE]):
+            if stats.config_key(o) in keys and math.isfinite(o[metrics.MASKED_SHARE]):
                 parts.append(
                     f"{o[names.RENDERER]} {o[names.STAGE]} masks off {tables.fmt_percent(o[metrics.MASKED_SHARE])} "
                     "of its lane work"
@@ -607,9 +595,12 @@ def _evaluate_precision(claim: PrecisionClaim, heads, halves, samples, frames, r
         return {**row, "reason": f"no f16 run of {where} (profile key precisions = [f32, f16] runs one)"}
     if twin is None:
         return {**row, "configurations": _configurations([half]), "reason": f"no f32 run of {where} beside the f16 one"}
-    data = {names.F32: samples.get(_key(twin), np.array([])), names.F16: samples.get(_key(half), np.array([]))}
+    data = {
+        names.F32: samples.get(stats.config_key(twin), np.array([])),
+        names.F16: samples.get(stats.config_key(half), np.array([])),
+    }
     value, low, high = figure_ci(lambda m, p: m[names.F32] / m[names.F16], data, {})
-    agreement = precision.agreement_by_config(frames).get(_key(half), {})
+    agreement = precision.agreement_by_config(frames).get(stats.config_key(half), {})
     ruined = {0.0: REPRODUCED, 1.0: NOT_REPRODUCED}.get(agreement.get("agrees"), NOT_MEASURED)
     result = both_hold(verdict(low, high, claim.low, claim.high), ruined)
     image = f"f16 image against the double reference: {_image_text(agreement)}"

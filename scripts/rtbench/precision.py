@@ -76,16 +76,6 @@ def _median(values: pd.Series) -> float:
     return float(present.median()) if len(present) else math.nan
 
 
-def samples_by_config(frames: pd.DataFrame) -> dict[tuple[str, ...], object]:
-    """Each configuration's measured render times, by its CONFIG_KEYS as strings."""
-    groups = stats.measured(frames).groupby(names.CONFIG_KEYS, sort=False, dropna=False)
-    return {tuple(str(k) for k in key): stats.finite(g[names.RENDER_MS].to_numpy()) for key, g in groups}
-
-
-def config_key(row) -> tuple[str, ...]:
-    return tuple(str(row[k]) for k in names.CONFIG_KEYS)
-
-
 def f32_twin(summary: pd.DataFrame, row: pd.Series) -> pd.Series | None:
     """The f32 configuration an f16 one is measured against: the same in
     every key but the precision; where none ran, the same but for lanes
@@ -105,7 +95,7 @@ def half_precision(summary: pd.DataFrame, frames: pd.DataFrame) -> pd.DataFrame:
     halves = summary[summary[names.PRECISION] == names.F16]
     if halves.empty:
         return pd.DataFrame(columns=COLUMNS)
-    samples, agreement = samples_by_config(frames), agreement_by_config(frames)
+    samples, agreement = stats.samples_by_config(frames), agreement_by_config(frames)
     rows = []
     for _, half in halves.iterrows():
         twin = f32_twin(summary, half)
@@ -113,8 +103,8 @@ def half_precision(summary: pd.DataFrame, frames: pd.DataFrame) -> pd.DataFrame:
         for precision, side in ((names.F32, twin), (names.F16, half)):
             row.update(_side(precision, side, agreement))
         empty = stats.finite([])
-        f32_times = samples.get(config_key(twin), empty) if twin is not None else empty
-        ratio, low, high = stats.median_ratio_ci(f32_times, samples.get(config_key(half), empty))
+        f32_times = samples.get(stats.config_key(twin), empty) if twin is not None else empty
+        ratio, low, high = stats.median_ratio_ci(f32_times, samples.get(stats.config_key(half), empty))
         rows.append({**row, SPEEDUP: ratio, SPEEDUP_LOW: low, SPEEDUP_HIGH: high})
     return pd.DataFrame(rows, columns=COLUMNS)
 
@@ -122,7 +112,7 @@ def half_precision(summary: pd.DataFrame, frames: pd.DataFrame) -> pd.DataFrame:
 def _side(precision: str, row: pd.Series | None, agreement: dict) -> dict[str, float]:
     values = dict.fromkeys(SIDE_COLUMNS, math.nan)
     if row is not None:
-        values = {"median": row["median"], **agreement.get(config_key(row), values)}
+        values = {"median": row["median"], **agreement.get(stats.config_key(row), values)}
     return {side_column(precision, c): values.get(c, math.nan) for c in SIDE_COLUMNS}
 
 
@@ -146,8 +136,17 @@ TITLE = "Half precision (the thesis' ablation)"
 SLUG = "half-precision"
 
 
-HEADERS = ["scene", "stage", "renderer", "configuration", "f32 ms", "f16 ms", "f32/f16 [95% CI]"]
-HEADERS += ["f32 image", "f16 image"]
+HEADERS = [
+    "scene",
+    "stage",
+    "renderer",
+    "configuration",
+    "f32 ms",
+    "f16 ms",
+    "f32/f16 [95% CI]",
+    "f32 image",
+    "f16 image",
+]
 
 
 def half_precision_table(table: pd.DataFrame, refusals: dict[str, str]) -> tables.Table:
@@ -171,24 +170,7 @@ def half_precision_table(table: pd.DataFrame, refusals: dict[str, str]) -> table
         [tables.MISSING, tables.MISSING, renderer, "f16 refused", *[tables.MISSING] * 3, "", reason]
         for renderer, reason in refusals.items()
     ]
-    return tables.Table(
-        SLUG,
-        TITLE,
-        [
-            "scene",
-            "stage",
-            "renderer",
-            "configuration",
-            "f32 ms",
-            "f16 ms",
-            "f32/f16 [95% CI]",
-            "f32 image",
-            "f16 image",
-        ],
-        rows,
-        "llllrrrll",
-        [NOTE],
-    )
+    return tables.Table(SLUG, TITLE, HEADERS, rows, "llllrrrll", [NOTE])
 
 
 NOTE = (

@@ -130,16 +130,7 @@ def compute(inputs: ReportInputs) -> ReportResults:
         built.append(tables.startup_vs_spheres(startup))
     if not halves.empty or refusals:
         built.append(precision.half_precision_table(halves, refusals))
-    checked = findings.evaluate(
-        summary,
-        inputs.frames,
-        met,
-        inputs.thesis_tables,
-        thesis_metrics,
-        tables.sizes(f32_summary if len(f32_summary) else summary)[0],
-        occupancy,
-        refusals,
-    )
+    checked = _findings(inputs, summary, met, thesis_metrics, occupancy, refusals)
     built.append(findings.findings_table(checked))
     warnings = collect_warnings(inputs, summary)
     return ReportResults(
@@ -313,6 +304,12 @@ def evaluate_findings(inputs: ReportInputs) -> pd.DataFrame:
     """The findings of one run (findings.COLUMNS), as its report computes them."""
     summary = stats.summarize_configs(inputs.frames)
     met, thesis_metrics, occupancy, _, refusals = check_inputs(inputs, summary)
+    return _findings(inputs, summary, met, thesis_metrics, occupancy, refusals)
+
+
+def _findings(inputs: ReportInputs, summary, met, thesis_metrics, occupancy, refusals) -> pd.DataFrame:
+    """findings.evaluate at the run's first image size of its f32 configurations
+    (of any, in a run of f16 only)."""
     f32 = names.at_f32(summary)
     size = tables.sizes(f32 if len(f32) else summary)[0]
     return findings.evaluate(

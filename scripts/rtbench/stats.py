@@ -138,6 +138,17 @@ def measured(frames: pd.DataFrame) -> pd.DataFrame:
     return frames[frames[names.WARMUP] == 0]
 
 
+def config_key(row) -> tuple[str, ...]:
+    """A configuration's CONFIG_KEYS as strings: the key of samples_by_config."""
+    return tuple(str(row[k]) for k in names.CONFIG_KEYS)
+
+
+def samples_by_config(frames: pd.DataFrame) -> dict[tuple[str, ...], np.ndarray]:
+    """Each configuration's finite measured render times, by config_key."""
+    groups = measured(frames).groupby(names.CONFIG_KEYS, sort=False, dropna=False)
+    return {tuple(str(k) for k in key): finite(g[names.RENDER_MS].to_numpy()) for key, g in groups}
+
+
 def modified_z_by_config(frames: pd.DataFrame, value: str = names.RENDER_MS) -> pd.Series:
     """Modified z-score of each measured frame within its configuration (all
     repetitions pooled, as in the summary); NaN for warm-up frames."""
