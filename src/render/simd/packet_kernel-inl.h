@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -39,8 +40,45 @@ template <class D>
 using VecF = hn::Vec<D>;
 template <class D>
 using MaskF = hn::Mask<D>;
+template <class D>
+using LaneT = hn::TFromD<D>;
+// Packets of f16 lanes (the half-precision kernel), not float ones.
+template <class D>
+inline constexpr bool kHalfLanes = sizeof(LaneT<D>) != sizeof(float);
 
 constexpr float kEpsilon = static_cast<float>(RT_HIT_EPSILON);
+
+// Whether this target computes in f16 natively (Highway 1.2 and newer:
+// AVX3_SPR with GCC, NEON with FP16, SVE, RVV with Zvfh); only then is the
+// half-precision kernel compiled (docs/render-model.md section 10). Before
+// 1.2, HWY_HAVE_FLOAT16 meant f16 loads and conversions only.
+#undef RT_SIMD_NATIVE_F16
+#if (HWY_MAJOR > 1 || HWY_MINOR >= 2) && HWY_HAVE_FLOAT16
+#define RT_SIMD_NATIVE_F16 1
+#else
+#define RT_SIMD_NATIVE_F16 0
+#endif
+
+// A float value of the model in the lane type T: rounded to f16 once, or
+// kept as it is.
+template <class T>
+HWY_INLINE T LaneValue(float value) {
+#if RT_SIMD_NATIVE_F16
+  if constexpr (sizeof(T) != sizeof(float)) {
+    return hwy::F16FromF32(value);
+  } else {
+    return value;
+  }
+#else
+  return value;
+#endif
+}
+
+// A float value of the model in every lane.
+template <class D>
+HWY_INLINE VecF<D> Splat(D d, float value) {
+  return hn::Set(d, LaneValue<LaneT<D>>(value));
+}
 
 // ---- Packet types (the thesis' Vec3_x4, Ray_x4, RaycastHit_x4) ----------
 // The scalar kernel's Vec3, Ray and RaycastHit (scalar/ray.h), one lane per pixel.
@@ -69,7 +107,7 @@ struct RaycastHitX {
 
 template <class D>
 HWY_INLINE Vec3x<D> Broadcast(D d, const glm::vec3& v) {
-  return {hn::Set(d, v[0]), hn::Set(d, v[1]), hn::Set(d, v[2])};
+  return {Splat(d, v[0]), Splat(d, v[1]), Splat(d, v[2])};
 }
 template <class D>
 HWY_INLINE Vec3x<D> operator+(const Vec3x<D>& a, const Vec3x<D>& b) {
@@ -98,7 +136,7 @@ HWY_INLINE VecF<D> Dot(const Vec3x<D>& a, const Vec3x<D>& b) {
 // glm::normalize: v * (1 / sqrt(dot(v, v))).
 template <class D>
 HWY_INLINE Vec3x<D> Normalize(D d, const Vec3x<D>& v) {
-  return (hn::Set(d, 1.0f) / hn::Sqrt(Dot(v, v))) * v;
+  return (Splat(d, 1.0f) / hn::Sqrt(Dot(v, v))) * v;
 }
 template <class D>
 HWY_INLINE Vec3x<D> Select(MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) {
@@ -172,15 +210,27 @@ template <class D>
 HWY_INLINE VecF<D> Power(D d, VecF<D> x, float exponent) {
   constexpr float kMaxWholeExponent = 1 << 20;
   if (exponent == static_cast<float>(static_cast<int>(std::min(exponent, kMaxWholeExponent)))) {
-    VecF<D> result = hn::Set(d, 1.0f);
+    VecF<D> result = Splat(d, 1.0f);
     for (auto e = static_cast<unsigned>(exponent); e != 0; e >>= 1) {
       if (e & 1u) result = result * x;
       x = x * x;
     }
     return result;
   }
-  const VecF<D> positive = hn::Max(x, hn::Set(d, std::numeric_limits<float>::min()));
-  return hn::IfThenElseZero(x > hn::Zero(d), hn::Exp(d, hn::Set(d, exponent) * hn::Log(d, positive)));
+  if constexpr (kHalfLanes<D>) {
+    // Highway's Exp and Log have no f16 form: lane by lane in float. No
+    // committed scene gets here (their exponents are whole).
+    HWY_ALIGN LaneT<D> lanes[hn::MaxLanes(D())];
+    hn::Store(x, d, lanes);
+    for (std::size_t i = 0; i < hn::Lanes(d); ++i) {
+      const auto value = static_cast<float>(lanes[i]);
+      lanes[i] = LaneValue<LaneT<D>>(value > 0.0f ? std::exp(exponent * std::log(value)) : 0.0f);
+    }
+    return hn::Load(d, lanes);
+  } else {
+    const VecF<D> positive = hn::Max(x, hn::Set(d, std::numeric_limits<float>::min()));
+    return hn::IfThenElseZero(x > hn::Zero(d), hn::Exp(d, hn::Set(d, exponent) * hn::Log(d, positive)));
+  }
 }
 
 // Phong with one directional light: ambient + diffuse + specular. Out of
@@ -194,12 +244,12 @@ HWY_NOINLINE Vec3x<D> LocalColor(D d, const ShadingParams& shading, const Raycas
   const Vec3x<D> minusL = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - l;
   const Vec3x<D> ambient = Broadcast(d, shading.ambientColor) * hit.sphereColor;
   const Vec3x<D> diffuse = (hn::Max(Dot(n, l), hn::Zero(d)) * lightColor) * hit.sphereColor;
-  const Vec3x<D> rr = minusL - (hn::Set(d, 2.0f) * Dot(minusL, n)) * n;  // reflect(-l, n)
+  const Vec3x<D> rr = minusL - (Splat(d, 2.0f) * Dot(minusL, n)) * n;  // reflect(-l, n)
   const Vec3x<D> minusD = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - direction;
   // Clamped to [0, 1] as in the scalar model (docs/render-model.md section 4).
-  const VecF<D> cosine = hn::Min(hn::Max(Dot(rr, minusD), hn::Zero(d)), hn::Set(d, 1.0f));
+  const VecF<D> cosine = hn::Min(hn::Max(Dot(rr, minusD), hn::Zero(d)), Splat(d, 1.0f));
   const VecF<D> highlight = Power(d, cosine, shading.shininess);
-  return ambient + diffuse + (hn::Set(d, shading.specularStrength) * highlight) * lightColor;
+  return ambient + diffuse + (Splat(d, shading.specularStrength) * highlight) * lightColor;
 }
 
 // The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
@@ -207,8 +257,8 @@ template <class D>
 HWY_INLINE RayX<D> ReflectedRay(D d, const RayX<D>& ray, const RaycastHitX<D>& hit) {
   const Vec3x<D>& dir = ray.direction;
   const Vec3x<D>& n = hit.normal;
-  const Vec3x<D> origin = hit.position + hn::Set(d, kEpsilon) * n;
-  return {origin, Normalize(d, dir - (hn::Set(d, 2.0f) * Dot(dir, n)) * n)};
+  const Vec3x<D> origin = hit.position + Splat(d, kEpsilon) * n;
+  return {origin, Normalize(d, dir - (Splat(d, 2.0f) * Dot(dir, n)) * n)};
 }
 
 // ---- The two algorithms (docs/render-model.md section 5) --------------------------------
@@ -220,7 +270,7 @@ template <class D>
 HWY_INLINE void ShadeBounce(D d, const ShadingParams& shading, const RaycastHitX<D>& hit, RayX<D>& ray, Vec3x<D>& color,
                             Vec3x<D>& throughput) {
   color = Select(hit.hit, color + throughput * LocalColor(d, shading, hit, ray.direction), color);
-  throughput = throughput * (hn::Set(d, shading.reflectivity) * hit.sphereColor);
+  throughput = throughput * (Splat(d, shading.reflectivity) * hit.sphereColor);
   ray = ReflectedRay(d, ray, hit);
 }
 
@@ -231,7 +281,7 @@ template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, Search kSe
 HWY_INLINE Vec3x<D> TraceSinglePass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active, Tally<kCount> tally) {
   const Vec3x<D> background = Broadcast(d, f.shading.background);
   Vec3x<D> color{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
-  Vec3x<D> throughput{hn::Set(d, 1.0f), hn::Set(d, 1.0f), hn::Set(d, 1.0f)};
+  Vec3x<D> throughput{Splat(d, 1.0f), Splat(d, 1.0f), Splat(d, 1.0f)};
   for (int depth = 0; depth < f.shading.maxDepth; ++depth) {
     tally.Rays(d, depth, active);
     const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kSearch, kCount>(d, f, ray, active, tally);
@@ -282,7 +332,8 @@ static_assert(kSegmentSlots == kSegmentVectors, "scratch sizing in packet_kernel
 template <class D>
 class PathSegmentStore {
  public:
-  PathSegmentStore(D d, float* base) : d_(d), base_(base), lanes_(hn::Lanes(d)) {}
+  // `base`: the thread's float scratch, holding packets of the lane type.
+  PathSegmentStore(D d, float* base) : d_(d), base_(reinterpret_cast<LaneT<D>*>(base)), lanes_(hn::Lanes(d)) {}
 
   void put(int segment, const PathSegmentX<D>& s) const {
     put3(segment, kOriginX, s.ray.origin);
@@ -306,7 +357,7 @@ class PathSegmentStore {
   }
 
  private:
-  float* at(int segment, std::size_t slot) const {
+  LaneT<D>* at(int segment, std::size_t slot) const {
     return base_ + (static_cast<std::size_t>(segment) * kSegmentSlots + slot) * lanes_;
   }
   void put3(int segment, std::size_t first, const Vec3x<D>& v) const {
@@ -320,7 +371,7 @@ class PathSegmentStore {
   }
 
   D d_;
-  float* base_;
+  LaneT<D>* base_;
   std::size_t lanes_;
 };
 
@@ -329,7 +380,7 @@ class PathSegmentStore {
 template <class D>
 HWY_INLINE Vec3x<D> FoldSegment(D d, const ShadingParams& shading, const Vec3x<D>& acc, const PathSegmentX<D>& s) {
   const Vec3x<D> lit =
-      (hn::Set(d, shading.reflectivity) * acc) * s.hit.sphereColor + LocalColor(d, shading, s.hit, s.ray.direction);
+      (Splat(d, shading.reflectivity) * acc) * s.hit.sphereColor + LocalColor(d, shading, s.hit, s.ray.direction);
   return Select(s.hit.hit, lit, Broadcast(d, shading.background));
 }
 
@@ -368,26 +419,25 @@ HWY_INLINE Vec3x<D> TraceTwoPass(D d, const FrameParams& f, RayX<D> ray, MaskF<D
 // are compiled once per packet width instead of into each of the 32 span
 // variants, which keeps the accel variant's cost in build time small.
 template <class D>
-HWY_NOINLINE RayX<D> PrimaryRay(D d, const FrameParams& f, int x, float v) {
+HWY_NOINLINE RayX<D> PrimaryRayOfFloats(D d, const FrameParams& f, int x, float v) {
   const float w = static_cast<float>(f.extent.width);
   const float h = static_cast<float>(f.extent.height);
   const VecF<D> px = hn::Iota(d, static_cast<float>(x));
-  const VecF<D> u =
-      ((hn::Set(d, 2.0f) * (px + hn::Set(d, 0.5f)) / hn::Set(d, w) - hn::Set(d, 1.0f)) * hn::Set(d, f.tanHalfFov)) *
-      hn::Set(d, w / h);
-  const Vec3x<D> dir = (Broadcast(d, f.forward) + u * Broadcast(d, f.right)) + hn::Set(d, v) * Broadcast(d, f.up);
+  const VecF<D> u = ((Splat(d, 2.0f) * (px + Splat(d, 0.5f)) / Splat(d, w) - Splat(d, 1.0f)) * Splat(d, f.tanHalfFov)) *
+                    Splat(d, w / h);
+  const Vec3x<D> dir = (Broadcast(d, f.forward) + u * Broadcast(d, f.right)) + Splat(d, v) * Broadcast(d, f.up);
   return {Broadcast(d, f.cameraPosition), Normalize(d, dir)};
 }
 
 // docs/render-model.md section 7: clamp, round(255 c), opaque; only the first n lanes land.
 template <class D>
-HWY_NOINLINE void ToRgba8(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
+HWY_NOINLINE void ToRgba8OfFloats(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
   const hn::RebindToSigned<D> di;
   constexpr std::size_t kMax = hn::MaxLanes(D());
-  HWY_ALIGN std::int32_t channel[3][kMax];
+  HWY_ALIGN hn::TFromD<decltype(di)> channel[3][kMax];
   const auto quantize = [&](VecF<D> c) {
-    const VecF<D> clamped = hn::Min(hn::Max(c, hn::Zero(d)), hn::Set(d, 1.0f));
-    return hn::ConvertTo(di, clamped * hn::Set(d, 255.0f) + hn::Set(d, 0.5f));
+    const VecF<D> clamped = hn::Min(hn::Max(c, hn::Zero(d)), Splat(d, 1.0f));
+    return hn::ConvertTo(di, clamped * Splat(d, 255.0f) + Splat(d, 0.5f));
   };
   hn::Store(quantize(color.x), di, channel[0]);
   hn::Store(quantize(color.y), di, channel[1]);
@@ -395,6 +445,58 @@ HWY_NOINLINE void ToRgba8(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n)
   for (std::size_t i = 0; i < n; ++i) {
     out[i] = Rgba8{static_cast<std::uint8_t>(channel[0][i]), static_cast<std::uint8_t>(channel[1][i]),
                    static_cast<std::uint8_t>(channel[2][i]), 255};
+  }
+}
+
+// The f16 kernel's camera ray: its direction before normalisation in float,
+// lane by lane, then rounded (a pixel coordinate past 2048 has no f16
+// value); the normalisation is in f16 (docs/render-model.md section 10).
+template <class D>
+HWY_NOINLINE RayX<D> PrimaryRayOfHalves(D d, const FrameParams& f, int x, float v) {
+  const float w = static_cast<float>(f.extent.width);
+  const float h = static_cast<float>(f.extent.height);
+  HWY_ALIGN LaneT<D> direction[3][hn::MaxLanes(D())];
+  for (std::size_t i = 0; i < hn::Lanes(d); ++i) {
+    const float px = static_cast<float>(x) + static_cast<float>(i);
+    const float u = ((2.0f * (px + 0.5f) / w - 1.0f) * f.tanHalfFov) * (w / h);
+    const glm::vec3 dir = (f.forward + u * f.right) + v * f.up;
+    for (int k = 0; k < 3; ++k) direction[k][i] = LaneValue<LaneT<D>>(dir[k]);
+  }
+  const Vec3x<D> dir{hn::Load(d, direction[0]), hn::Load(d, direction[1]), hn::Load(d, direction[2])};
+  return {Broadcast(d, f.cameraPosition), Normalize(d, dir)};
+}
+
+// The f16 kernel's last step in float, as the scalar toRgba8 does it: an
+// f16 sum of 255 c + 0.5 would round to its 1/8 steps above 128.
+template <class D>
+HWY_NOINLINE void ToRgba8OfHalves(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
+  HWY_ALIGN LaneT<D> channel[3][hn::MaxLanes(D())];
+  hn::Store(color.x, d, channel[0]);
+  hn::Store(color.y, d, channel[1]);
+  hn::Store(color.z, d, channel[2]);
+  const auto quantize = [](LaneT<D> c) {
+    return static_cast<std::uint8_t>(std::clamp(static_cast<float>(c), 0.0f, 1.0f) * 255.0f + 0.5f);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] = Rgba8{quantize(channel[0][i]), quantize(channel[1][i]), quantize(channel[2][i]), 255};
+  }
+}
+
+template <class D>
+HWY_INLINE RayX<D> PrimaryRay(D d, const FrameParams& f, int x, float v) {
+  if constexpr (kHalfLanes<D>) {
+    return PrimaryRayOfHalves(d, f, x, v);
+  } else {
+    return PrimaryRayOfFloats(d, f, x, v);
+  }
+}
+
+template <class D>
+HWY_INLINE void ToRgba8(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
+  if constexpr (kHalfLanes<D>) {
+    ToRgba8OfHalves(d, color, out, n);
+  } else {
+    ToRgba8OfFloats(d, color, out, n);
   }
 }
 
@@ -441,30 +543,53 @@ inline constexpr unsigned kHalfVariants = KernelVariant::kCount / 2;
 static_assert(KernelVariant::fromIndex(kHalfVariants).counters && !KernelVariant::fromIndex(kHalfVariants - 1).counters,
               "the counting variants are the upper half");
 
-// The kernels for packets of exactly kLanes floats, if this target has them.
-template <unsigned kFirst, std::size_t kLanes>
+// The f16 kernel is brute force only: the variants of the first half whose
+// search bits (4-5) are zero.
+inline constexpr unsigned kBruteForceVariants = 16;
+static_assert(!KernelVariant::fromIndex(kBruteForceVariants - 1).bvh &&
+                  KernelVariant::fromIndex(kBruteForceVariants).bvh,
+              "the brute-force variants come first");
+
+// Float lanes have every variant; f16 lanes the brute-force ones.
+template <class T>
+inline constexpr unsigned kVariantsOf = sizeof(T) == sizeof(float) ? kHalfVariants : kBruteForceVariants;
+
+// The kernels for packets of exactly kLanes lanes of T, if this target has them.
+template <unsigned kFirst, class T, std::size_t kLanes>
 LaneKernels CappedKernels() {
-  const hn::CappedTag<float, kLanes> d;
+  const hn::CappedTag<T, kLanes> d;
   if (hn::Lanes(d) != kLanes) return {};
-  return MakeLaneKernels<kFirst>(d, std::make_integer_sequence<unsigned, kHalfVariants>());
+  return MakeLaneKernels<kFirst>(d, std::make_integer_sequence<unsigned, kVariantsOf<T>>());
 }
 
-template <unsigned kFirst, std::size_t... kIndex>
+template <unsigned kFirst, class T, std::size_t... kIndex>
 std::array<LaneKernels, sizeof...(kIndex)> AllCappedKernels(std::index_sequence<kIndex...>) {
-  return {CappedKernels<kFirst, static_cast<std::size_t>(schema::kLaneWidths[kIndex])>()...};
+  return {CappedKernels<kFirst, T, static_cast<std::size_t>(schema::kLaneWidths[kIndex])>()...};
 }
 
-// What this target offers, for one half of the variants: the native width
-// and each of the schema's lane widths. Returned by value through dispatch,
-// so callers keep this target's function pointers and never dispatch per row.
+// One lane type's kernels: the native width and each of the schema's lane widths.
+template <unsigned kFirst, class T>
+LaneSet LaneSetOf() {
+  const hn::ScalableTag<T> d;
+  LaneSet set;
+  set.nativeLanes = static_cast<int>(hn::Lanes(d));
+  set.native = MakeLaneKernels<kFirst>(d, std::make_integer_sequence<unsigned, kVariantsOf<T>>());
+  set.capped = AllCappedKernels<kFirst, T>(std::make_index_sequence<schema::kLaneWidths.size()>());
+  return set;
+}
+
+// What this target offers, for one half of the variants (without or with
+// counters): float lanes, and f16 lanes where the target has native f16
+// arithmetic. Returned by value through dispatch, so callers keep this
+// target's function pointers and never dispatch per row.
 template <unsigned kFirst>
 TargetKernels HalfOfTargetKernels() {
-  const hn::ScalableTag<float> d;
   TargetKernels kernels;
   kernels.target = HWY_TARGET;
-  kernels.nativeLanes = static_cast<int>(hn::Lanes(d));
-  kernels.native = MakeLaneKernels<kFirst>(d, std::make_integer_sequence<unsigned, kHalfVariants>());
-  kernels.capped = AllCappedKernels<kFirst>(std::make_index_sequence<schema::kLaneWidths.size()>());
+  kernels.f32 = LaneSetOf<kFirst, float>();
+#if RT_SIMD_NATIVE_F16
+  kernels.f16 = LaneSetOf<kFirst, hwy::float16_t>();
+#endif
   return kernels;
 }
 

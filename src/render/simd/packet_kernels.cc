@@ -41,12 +41,20 @@ TargetKernels dispatchedKernels() {
       if (from.variants[i] != nullptr) into.variants[i] = from.variants[i];
     }
   };
-  merge(kernels.native, counted.native);
-  for (std::size_t i = 0; i < kernels.capped.size(); ++i) merge(kernels.capped[i], counted.capped[i]);
+  const auto mergeSet = [&](LaneSet& into, const LaneSet& from) {
+    merge(into.native, from.native);
+    for (std::size_t i = 0; i < into.capped.size(); ++i) merge(into.capped[i], from.capped[i]);
+  };
+  mergeSet(kernels.f32, counted.f32);
+  mergeSet(kernels.f16, counted.f16);
   return kernels;
 }
 
 std::string targetName(std::int64_t target) { return hwy::TargetName(target); }
+
+std::string highwayVersion() {
+  return std::to_string(HWY_MAJOR) + "." + std::to_string(HWY_MINOR) + "." + std::to_string(HWY_PATCH);
+}
 
 // HWY_TARGETS here is this file's list, which excludes the disabled targets.
 std::vector<std::int64_t> availableTargets() {

@@ -4,6 +4,8 @@
 // kernels themselves (packet_kernel-inl.h) are compiled once per Highway
 // target in packet_kernels.cc and reached through one dynamic dispatch per
 // renderer.
+#include <hwy/base.h>  // hwy::float16_t, the f16 kernel's storage type (no vector types)
+
 #include <array>
 #include <cstdint>
 #include <span>
@@ -19,18 +21,24 @@
 
 namespace rt::simd {
 
-// The scene's spheres as structure of arrays: one contiguous float array per
+// The scene's spheres as structure of arrays: one contiguous array per
 // component, so a packet loads one sphere's component with one broadcast.
-struct SphereArrays {
-  const float* centerX = nullptr;
-  const float* centerY = nullptr;
-  const float* centerZ = nullptr;
-  const float* radius = nullptr;
-  const float* radiusSquared = nullptr;  // radius * radius in float, as the scalar kernel computes it
-  const float* colorR = nullptr;
-  const float* colorG = nullptr;
-  const float* colorB = nullptr;
+// T is the packets' lane type: float, or hwy::float16_t for the half-
+// precision kernel (docs/render-model.md section 10).
+template <class T>
+struct SphereData {
+  const T* centerX = nullptr;
+  const T* centerY = nullptr;
+  const T* centerZ = nullptr;
+  const T* radius = nullptr;
+  const T* radiusSquared = nullptr;  // radius * radius in float, as the scalar kernel computes it
+  const T* colorR = nullptr;
+  const T* colorG = nullptr;
+  const T* colorB = nullptr;
   int count = 0;
+};
+
+struct SphereArrays : SphereData<float> {
   const Bvh* bvh = nullptr;       // --accel bvh; null: brute force
   const WideBvh* wide = nullptr;  // --traversal single or hybrid; null otherwise
 };
@@ -39,6 +47,7 @@ struct SphereArrays {
 // scene in prepare(), the camera and the target per frame.
 struct FrameParams {
   SphereArrays spheres;
+  SphereData<hwy::float16_t> halfSpheres;  // --precision f16: the same spheres rounded to f16 once
   ShadingParams shading;
   glm::vec3 cameraPosition;
   glm::vec3 forward;
@@ -67,24 +76,36 @@ struct LaneKernels {
   SpanKernel variants[KernelVariant::kCount] = {};  // by KernelVariant::index()
 };
 
+// A target's kernels for one lane type: the native width and each of the
+// schema's lane widths.
+struct LaneSet {
+  int nativeLanes = 0;  // lanes of the widest vector; 0: this lane type has no kernels here
+  LaneKernels native;   // --lanes native
+  // --lanes N for each N of schema::kLaneWidths, in that order (lanes 0
+  // where the target cannot hold N lanes).
+  std::array<LaneKernels, schema::kLaneWidths.size()> capped;
+};
+
 // What the dispatched target offers. Taken once per renderer, so the target
 // recorded in the CSV is the one whose code renders, even if a test forces
 // another target later.
 struct TargetKernels {
   std::int64_t target = 0;  // a HWY_* bit
-  int nativeLanes = 0;      // lanes of the widest float vector
-  LaneKernels native;       // --lanes native
-  // --lanes N for each N of schema::kLaneWidths, in that order (lanes 0
-  // where the target cannot hold N floats).
-  std::array<LaneKernels, schema::kLaneWidths.size()> capped;
+  LaneSet f32;              // every variant
+  // --precision f16: brute force only, and only where Highway (1.2 and
+  // newer) gives this target native f16 arithmetic; empty elsewhere.
+  LaneSet f16;
 };
+
+// The f16 kernel keeps a sphere's index in an f16 lane, exact up to 2^11.
+inline constexpr int kHalfPrecisionMaxSpheres = 2048;
 
 // Vectors stored per two-pass segment: ray origin and direction, hit
 // position, normal, distance, sphere colour and the hit mask.
 inline constexpr std::size_t kSegmentVectors = 17;
 
 // Floats of two-pass scratch a thread needs for `lanes`-wide packets and
-// `maxDepth` stored segments.
+// `maxDepth` stored segments (f16 packets fill half of it).
 inline std::size_t scratchFloats(int lanes, int maxDepth) {
   return kSegmentVectors * static_cast<std::size_t>(lanes) * static_cast<std::size_t>(maxDepth);
 }
@@ -97,6 +118,9 @@ TargetKernels dispatchedCountedKernels();
 
 // Highway's name of a target bit ("AVX3", "SSE4", ...).
 std::string targetName(std::int64_t target);
+
+// The Highway version this build was compiled with ("1.2.0").
+std::string highwayVersion();
 
 // Targets compiled into the kernel that this CPU can run, best first.
 std::vector<std::int64_t> availableTargets();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "render/kernel_variant.h"
 
@@ -10,44 +11,65 @@ namespace rt {
 namespace {
 
 // --lanes: native, or exactly one of the schema's lane widths if the target has it.
-simd::LaneKernels selectLanes(const simd::TargetKernels& target, int lanes) {
-  if (lanes == ParallelSettings::kNativeLanes) return target.native;
+simd::LaneKernels selectLanes(const simd::LaneSet& set, const std::string& target, std::string_view laneType,
+                              int lanes) {
+  if (lanes == ParallelSettings::kNativeLanes) return set.native;
   const auto* it = std::ranges::find(schema::kLaneWidths, lanes);
   if (it == schema::kLaneWidths.end()) {
     throw std::invalid_argument("lanes " + std::to_string(lanes) + " is not one of the schema's lane widths");
   }
-  const simd::LaneKernels& kernels = target.capped[static_cast<std::size_t>(it - schema::kLaneWidths.begin())];
+  const simd::LaneKernels& kernels = set.capped[static_cast<std::size_t>(it - schema::kLaneWidths.begin())];
   if (kernels.lanes != lanes) {
-    throw LanesUnsupported("--lanes " + std::to_string(lanes) + ": the CPU's SIMD target " +
-                           simd::targetName(target.target) + " has at most " + std::to_string(target.nativeLanes) +
-                           " float lanes");
+    throw LanesUnsupported("--lanes " + std::to_string(lanes) + ": the CPU's SIMD target " + target + " has at most " +
+                           std::to_string(set.nativeLanes) + " " + std::string(laneType) + " lanes");
   }
   return kernels;
 }
 
-// Why --precision f16 is refused: the packets are float packets on every
-// target. Highway computes in f16 natively only from version 1.2 on, and
-// only on the targets named, none of which our machines have
+// Why --precision f16 has no kernel on this target: Highway computes in f16
+// natively only from version 1.2 on, and only on the targets named
 // (docs/render-model.md section 10).
 std::string halfPrecisionRefusal(const std::string& target) {
-  return "the SIMD renderers cannot compute in half precision (--precision f16): their packet kernel has float "
-         "lanes on every target (this CPU's: " +
-         target +
-         "). Native f16 arithmetic, which an f16 kernel needs, is in Highway 1.2 and newer on AVX3_SPR "
-         "(AVX512-FP16, Intel Xeon from Sapphire Rapids on, with GCC), NEON with the ARMv8.2-A FP16 extension, "
-         "SVE and SVE2, and RVV with Zvfh. --gpu --precision f16 runs the experiment where the Vulkan device "
-         "offers shaderFloat16";
+  return "the SIMD renderers cannot compute in half precision (--precision f16) here: this CPU's Highway target " +
+         target + " has no native f16 arithmetic (Highway " + simd::highwayVersion() +
+         "). An f16 kernel is compiled for the targets that have it from Highway 1.2 on: AVX3_SPR (AVX512-FP16, "
+         "Intel Xeon from Sapphire Rapids on, with GCC), NEON with the ARMv8.2-A FP16 extension, SVE and SVE2, and "
+         "RVV with Zvfh. --gpu --precision f16 runs the experiment where the Vulkan device offers shaderFloat16";
 }
 
 }  // namespace
 
 SimdKernel::SimdKernel(const ParallelSettings& settings)
-    : target_(simd::dispatchedKernels()), kernels_(selectLanes(target_, settings.lanes)) {}
+    : target_(simd::dispatchedKernels()),
+      lanesAsked_(settings.lanes),
+      floatKernels_(selectLanes(target_.f32, simdTarget(), "float", settings.lanes)),
+      kernels_(floatKernels_) {}
+
+// The float kernels, or for --precision f16 the f16 ones where they exist:
+// brute force over at most kHalfPrecisionMaxSpheres spheres on a target with
+// native f16 arithmetic (docs/render-model.md section 10). The scene's and
+// the options' limits come first, so they are refused the same on every CPU.
+simd::LaneKernels SimdKernel::kernelsFor(const Scene& scene, const RenderOptions& options) const {
+  if (options.precision == Precision::f32) return floatKernels_;
+  if (options.accel != Accel::none) {
+    throw HalfPrecisionUnsupported(
+        "the SIMD renderers' half-precision kernel (--precision f16) is brute force only: use --accel none");
+  }
+  if (scene.spheres.size() > static_cast<std::size_t>(simd::kHalfPrecisionMaxSpheres)) {
+    throw HalfPrecisionUnsupported("the SIMD renderers' half-precision kernel (--precision f16) takes at most " +
+                                   std::to_string(simd::kHalfPrecisionMaxSpheres) +
+                                   " spheres (an f16 lane holds their indices exactly up to there); the scene has " +
+                                   std::to_string(scene.spheres.size()));
+  }
+  if (target_.f16.nativeLanes == 0) throw HalfPrecisionUnsupported(halfPrecisionRefusal(simdTarget()));
+  return selectLanes(target_.f16, simdTarget(), "f16", lanesAsked_);
+}
 
 void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int slots) {
   if (options.hybridThreshold < 0) throw std::invalid_argument("hybrid threshold must not be negative");
-  if (options.precision != Precision::f32) throw HalfPrecisionUnsupported(halfPrecisionRefusal(simdTarget()));
+  kernels_ = kernelsFor(scene, options);
   prepareSpheres(scene);
+  if (options.precision == Precision::f16) prepareHalfSpheres();
   accel_.prepare(scene.spheres, options.accel);
   params_.spheres.bvh = accel_.bvh();
   traversal_.reset();
@@ -110,8 +132,22 @@ void SimdKernel::prepareSpheres(const Scene& scene) {
     array(6)[i] = s.color.y;
     array(7)[i] = s.color.z;
   }
-  params_.spheres = {array(0), array(1), array(2), array(3),           array(4),
-                     array(5), array(6), array(7), static_cast<int>(n)};
+  params_.spheres = {
+      {array(0), array(1), array(2), array(3), array(4), array(5), array(6), array(7), static_cast<int>(n)}};
+}
+
+// The eight arrays rounded to f16 once. The conversion is Highway 1.2's;
+// with an older Highway no target has f16 kernels, and kernelsFor() has
+// refused before this is reached.
+void SimdKernel::prepareHalfSpheres() {
+#if defined(HWY_MAJOR) && (HWY_MAJOR > 1 || HWY_MINOR >= 2)
+  halfSphereData_.resize(sphereData_.size());
+  std::ranges::transform(sphereData_, halfSphereData_.begin(), [](float v) { return hwy::F16FromF32(v); });
+  const std::size_t n = sphereData_.size() / 8;
+  const auto array = [&](int k) { return halfSphereData_.data() + static_cast<std::size_t>(k) * n; };
+  params_.halfSpheres = {array(0), array(1), array(2), array(3),           array(4),
+                         array(5), array(6), array(7), static_cast<int>(n)};
+#endif
 }
 
 void SimdKernel::prepareScratch(int maxDepth, int slots) {

@@ -20,8 +20,9 @@ class LanesUnsupported : public RendererUnavailable {
   using RendererUnavailable::RendererUnavailable;
 };
 
-// --precision f16 where the kernel has no half-precision packets: on every
-// target of this build (docs/render-model.md section 10).
+// --precision f16 where the kernel has no half-precision packets: a target
+// without native f16 arithmetic, a BVH, or more spheres than an f16 lane
+// indexes exactly (docs/render-model.md section 10).
 class HalfPrecisionUnsupported : public RendererUnavailable {
  public:
   using RendererUnavailable::RendererUnavailable;
@@ -35,7 +36,8 @@ class SimdKernel {
   static constexpr Kernel kId = Kernel::simd;
 
   // Picks the kernels of the best target the CPU has (or a test's forced
-  // one) once, here, at settings.lanes. Throws LanesUnsupported or
+  // one) once, here, at settings.lanes (float lanes; prepare() switches to
+  // f16 lanes for --precision f16). Throws LanesUnsupported or
   // std::invalid_argument.
   explicit SimdKernel(const ParallelSettings& settings = {});
 
@@ -53,7 +55,8 @@ class SimdKernel {
 
   // The spheres as arrays (and their BVH with --accel bvh), the scene's
   // light and shading, the variant the options select, and two-pass
-  // scratch for `slots` worker threads.
+  // scratch for `slots` worker threads. Throws HalfPrecisionUnsupported or
+  // LanesUnsupported where --precision f16 has no kernel.
   void prepare(const Scene& scene, const RenderOptions& options, int slots);
   void beginFrame(const CameraFrame& camera, Image& frame);
   // Pixels x0..x1-1 of row y; `slot` (the worker's index) picks its scratch.
@@ -71,16 +74,21 @@ class SimdKernel {
     float floats[16];
   };
 
+  [[nodiscard]] simd::LaneKernels kernelsFor(const Scene& scene, const RenderOptions& options) const;
   void prepareSpheres(const Scene& scene);
+  void prepareHalfSpheres();
   void prepareScratch(int maxDepth, int slots);
   [[nodiscard]] std::span<float> scratchOf(int slot);
 
   simd::TargetKernels target_;
-  simd::LaneKernels kernels_;
+  int lanesAsked_;                     // settings.lanes
+  simd::LaneKernels floatKernels_;     // at lanesAsked_
+  simd::LaneKernels kernels_;          // the prepared precision's: floatKernels_ or f16 ones
   simd::SpanKernel kernel_ = nullptr;  // the variant the options select
   simd::FrameParams params_{};         // scene parts set in prepare(), camera per frame
 
-  std::vector<float> sphereData_;  // SoA: 8 arrays of sphereCount floats each
+  std::vector<float> sphereData_;               // SoA: 8 arrays of sphereCount floats each
+  std::vector<hwy::float16_t> halfSphereData_;  // --precision f16: the same, rounded to f16
   AccelStructure accel_;
   std::optional<WideBvh> wide_;         // --traversal single or hybrid
   std::optional<Traversal> traversal_;  // with accel bvh

@@ -15,10 +15,12 @@
 // lower index (needed where spheres come in tree order; brute force visits
 // them in index order, where `<` alone settles ties the same way).
 // kSphereExit / kDiscriminantExit are the thesis' two SIMD early exits.
+// The sphere's values come in the lane type (LaneT<D>).
 template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
-HWY_INLINE void IntersectSphere(D d, float centerX, float centerY, float centerZ, float radiusSquared, float index,
-                                const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT, VecF<D>& bestIndex) {
-  const VecF<D> eps = hn::Set(d, kEpsilon);
+HWY_INLINE void IntersectSphere(D d, LaneT<D> centerX, LaneT<D> centerY, LaneT<D> centerZ, LaneT<D> radiusSquared,
+                                LaneT<D> index, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
+                                VecF<D>& bestIndex) {
+  const VecF<D> eps = Splat(d, kEpsilon);
   const Vec3x<D>& o = ray.origin;
   const Vec3x<D>& dir = ray.direction;
   const VecF<D> ocx = o.x - hn::Set(d, centerX);
@@ -50,25 +52,54 @@ HWY_INLINE void IntersectSphere(D d, float centerX, float centerY, float centerZ
   bestIndex = hn::IfThenElse(closer, lanesIndex, bestIndex);
 }
 
-// Sphere i of the scene's arrays.
+// The scene's arrays in the lane type: float, or the f16 copy.
+template <class D>
+HWY_INLINE const SphereData<LaneT<D>>& SpheresOf(const FrameParams& f) {
+  if constexpr (kHalfLanes<D>) {
+    return f.halfSpheres;
+  } else {
+    return f.spheres;
+  }
+}
+
+// Sphere i of the scene's arrays (the index is exact in f16 up to
+// kHalfPrecisionMaxSpheres, which prepare() enforces).
 template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
-HWY_INLINE void IntersectSphere(D d, const SphereArrays& s, int i, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
-                                VecF<D>& bestIndex) {
-  IntersectSphere<kSphereExit, kDiscriminantExit, kTieByIndex>(d, s.centerX[i], s.centerY[i], s.centerZ[i],
-                                                               s.radiusSquared[i], static_cast<float>(i), ray, active,
-                                                               bestT, bestIndex);
+HWY_INLINE void IntersectSphere(D d, const SphereData<LaneT<D>>& s, int i, const RayX<D>& ray, MaskF<D> active,
+                                VecF<D>& bestT, VecF<D>& bestIndex) {
+  IntersectSphere<kSphereExit, kDiscriminantExit, kTieByIndex>(
+      d, s.centerX[i], s.centerY[i], s.centerZ[i], s.radiusSquared[i], LaneValue<LaneT<D>>(static_cast<float>(i)), ray,
+      active, bestT, bestIndex);
+}
+
+// base[i] per lane. Highway gathers 32- and 64-bit lanes only; 16-bit
+// lanes are read one by one (once per bounce, not per sphere).
+template <class D>
+HWY_INLINE VecF<D> GatherLanes(D d, const LaneT<D>* base, hn::Vec<hn::RebindToSigned<D>> index) {
+  if constexpr (!kHalfLanes<D>) {
+    return hn::GatherIndex(d, base, index);
+  } else {
+    const hn::RebindToSigned<D> di;
+    HWY_ALIGN hn::TFromD<decltype(di)> indices[hn::MaxLanes(D())];
+    HWY_ALIGN LaneT<D> values[hn::MaxLanes(D())];
+    hn::Store(index, di, indices);
+    for (std::size_t lane = 0; lane < hn::Lanes(d); ++lane) values[lane] = base[indices[lane]];
+    return hn::Load(d, values);
+  }
 }
 
 template <class D>
-HWY_INLINE Vec3x<D> Gather3(D d, const float* x, const float* y, const float* z, hn::Vec<hn::RebindToSigned<D>> i) {
-  return {hn::GatherIndex(d, x, i), hn::GatherIndex(d, y, i), hn::GatherIndex(d, z, i)};
+HWY_INLINE Vec3x<D> Gather3(D d, const LaneT<D>* x, const LaneT<D>* y, const LaneT<D>* z,
+                            hn::Vec<hn::RebindToSigned<D>> i) {
+  return {GatherLanes(d, x, i), GatherLanes(d, y, i), GatherLanes(d, z, i)};
 }
 
 // The hit records of the lanes' best spheres (index -1: a miss). Where the
 // ray leaves the sphere (it started inside) the normal is turned to the
 // side the ray sees (docs/render-model.md section 4).
 template <class D>
-HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereArrays& s, const RayX<D>& ray, VecF<D> bestT, VecF<D> bestIndex) {
+HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereData<LaneT<D>>& s, const RayX<D>& ray, VecF<D> bestT,
+                                    VecF<D> bestIndex) {
   RaycastHitX<D> h;
   h.hit = bestIndex >= hn::Zero(d);
   // Missed lanes read sphere 0 at distance 0: junk, but finite junk.
@@ -77,9 +108,9 @@ HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereArrays& s, const RayX<D>& r
   h.distance = hn::IfThenElseZero(h.hit, bestT);
   h.position = ray.origin + h.distance * ray.direction;
   const Vec3x<D> center = Gather3(d, s.centerX, s.centerY, s.centerZ, index);
-  const Vec3x<D> outward = (h.position - center) / hn::GatherIndex(d, s.radius, index);
+  const Vec3x<D> outward = (h.position - center) / GatherLanes(d, s.radius, index);
   const MaskF<D> leaving = Dot(ray.direction, outward) > hn::Zero(d);
-  h.normal = Select(leaving, hn::Set(d, -1.0f) * outward, outward);
+  h.normal = Select(leaving, Splat(d, -1.0f) * outward, outward);
   h.sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index);
   return h;
 }
@@ -87,10 +118,10 @@ HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereArrays& s, const RayX<D>& r
 // Brute force: every sphere in index order. Lanes outside `active` (past
 // the row's end, or already missed) report no hit.
 template <bool kSphereExit, bool kDiscriminantExit, bool kCount, class D>
-HWY_INLINE RaycastHitX<D> NearestHitOfAll(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active,
+HWY_INLINE RaycastHitX<D> NearestHitOfAll(D d, const SphereData<LaneT<D>>& s, const RayX<D>& ray, MaskF<D> active,
                                           Tally<kCount> tally) {
-  VecF<D> bestT = hn::Set(d, std::numeric_limits<float>::infinity());
-  VecF<D> bestIndex = hn::Set(d, -1.0f);
+  VecF<D> bestT = Splat(d, std::numeric_limits<float>::infinity());
+  VecF<D> bestIndex = Splat(d, -1.0f);
   for (int i = 0; i < s.count; ++i) {
     IntersectSphere<kSphereExit, kDiscriminantExit, false>(d, s, i, ray, active, bestT, bestIndex);
   }
@@ -216,7 +247,7 @@ template <bool kSphereExit, bool kDiscriminantExit, Search kSearch, bool kCount,
 HWY_NOINLINE RaycastHitX<D> NearestHit(D d, const FrameParams& f, const RayX<D>& ray, MaskF<D> active,
                                        Tally<kCount> tally) {
   if constexpr (kSearch == Search::kAll) {
-    return NearestHitOfAll<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active, tally);
+    return NearestHitOfAll<kSphereExit, kDiscriminantExit>(d, SpheresOf<D>(f), ray, active, tally);
   } else if constexpr (kSearch == Search::kPacket) {
     return NearestHitInBvh<kSphereExit, kDiscriminantExit>(d, f.spheres, ray, active, tally);
   } else if constexpr (kSearch == Search::kSingle) {

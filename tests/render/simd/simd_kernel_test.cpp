@@ -91,7 +91,7 @@ TEST_P(SimdAgreement, AgreesWithSequential) {
   for (const int lanes : kLaneRequests) {
     ParallelSettings settings;
     settings.lanes = lanes;
-    const bool scalarTarget = simd::dispatchedKernels().nativeLanes < 4;
+    const bool scalarTarget = simd::dispatchedKernels().f32.nativeLanes < 4;
     if (lanes == 4 && scalarTarget) {
       EXPECT_THROW(makeCpuRenderer(mode, settings), LanesUnsupported);
       continue;
@@ -120,36 +120,11 @@ TEST(TbbOnlyAgreement, AgreesWithSequential) {
 // main() answers RendererUnavailable with exit code 2, the lanes error included.
 static_assert(std::is_base_of_v<RendererUnavailable, LanesUnsupported>);
 
-// --precision f16 (docs/render-model.md section 10): the packet kernel has
-// float lanes on every target, so both SIMD renderers refuse it on each,
-// naming the target and where native f16 arithmetic exists.
-static_assert(std::is_base_of_v<RendererUnavailable, HalfPrecisionUnsupported>);
-
-TEST(HalfPrecision, IsRefusedOnEveryTargetNamingIt) {
-  const Scene scene = test::loadNamedScene("random20");
-  RenderOptions options = optionsForStage(Stage::optimized);
-  options.precision = Precision::f16;
-  for (const std::int64_t target : simd::availableTargets()) {
-    const simd::ScopedTargetOverride force(target);
-    for (const RendererKind mode : {RendererKind::simd_tbb, RendererKind::simd_only}) {
-      const auto renderer = makeCpuRenderer(mode);
-      try {
-        renderer->prepare(scene, {16, 8}, options);
-        ADD_FAILURE() << nameOf(mode) << " on " << simd::targetName(target) << " accepted --precision f16";
-      } catch (const HalfPrecisionUnsupported& e) {
-        const std::string message = e.what();
-        EXPECT_NE(message.find("(this CPU's: " + simd::targetName(target) + ")"), std::string::npos) << message;
-        EXPECT_NE(message.find("AVX3_SPR"), std::string::npos) << message;
-      }
-    }
-  }
-}
-
 // --lanes 4/8/16 exist exactly where the target's vectors hold that many floats.
 TEST(Lanes, FollowTheTargetOnEveryTarget) {
   for (const std::int64_t target : simd::availableTargets()) {
     const simd::ScopedTargetOverride force(target);
-    const int native = simd::dispatchedKernels().nativeLanes;
+    const int native = simd::dispatchedKernels().f32.nativeLanes;
     ParallelSettings settings;
     EXPECT_EQ(makeCpuRenderer(RendererKind::simd_only, settings)->info().lanes, native);
     for (const int lanes : schema::kLaneWidths) {
@@ -170,7 +145,7 @@ TEST(Lanes, NativeIsTheBestTargetsWidth) {
   ASSERT_FALSE(targets.empty());
   const RendererInfo info = makeCpuRenderer(RendererKind::simd_tbb)->info();
   EXPECT_EQ(info.simdTarget, simd::targetName(targets.front()));
-  EXPECT_EQ(info.lanes, simd::dispatchedKernels().nativeLanes);
+  EXPECT_EQ(info.lanes, simd::dispatchedKernels().f32.nativeLanes);
 }
 
 // Images narrower than one packet, and every remainder of 16 lanes.
