@@ -39,6 +39,7 @@ class CpuRenderer final : public Renderer {
       info.traversal = kernel_.traversal();
       info.hybridThreshold = kernel_.hybridThreshold();
     }
+    if constexpr (requires { kernel_.precision(); }) info.precision = kernel_.precision();  // the SIMD kernel's f16
     return info;
   }
 

@@ -68,6 +68,7 @@ simd::LaneKernels SimdKernel::kernelsFor(const Scene& scene, const RenderOptions
 void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int slots) {
   if (options.hybridThreshold < 0) throw std::invalid_argument("hybrid threshold must not be negative");
   kernels_ = kernelsFor(scene, options);
+  precision_ = options.precision;
   prepareSpheres(scene);
   if (options.precision == Precision::f16) prepareHalfSpheres();
   accel_.prepare(scene.spheres, options.accel);

@@ -42,6 +42,8 @@ class SimdKernel {
   explicit SimdKernel(const ParallelSettings& settings = {});
 
   [[nodiscard]] int lanes() const { return kernels_.lanes; }
+  // The type of the prepared kernel's arithmetic (f32 until prepare() says otherwise).
+  [[nodiscard]] Precision precision() const { return precision_; }
   [[nodiscard]] std::string simdTarget() const { return simd::targetName(target_.target); }
   // A span starts at a multiple of the packet width.
   [[nodiscard]] int alignment() const { return kernels_.lanes; }
@@ -85,7 +87,8 @@ class SimdKernel {
   simd::LaneKernels floatKernels_;     // at lanesAsked_
   simd::LaneKernels kernels_;          // the prepared precision's: floatKernels_ or f16 ones
   simd::SpanKernel kernel_ = nullptr;  // the variant the options select
-  simd::FrameParams params_{};         // scene parts set in prepare(), camera per frame
+  Precision precision_ = Precision::f32;
+  simd::FrameParams params_{};  // scene parts set in prepare(), camera per frame
 
   std::vector<float> sphereData_;               // SoA: 8 arrays of sphereCount floats each
   std::vector<hwy::float16_t> halfSphereData_;  // --precision f16: the same, rounded to f16

@@ -97,6 +97,10 @@ TEST(HalfPrecision, HasKernelsExactlyWhereTheTargetHasNativeF16) {
       const auto renderer = makeCpuRenderer(mode);
       renderer->prepare(scene, kExtent, inPrecision(Precision::f16));
       EXPECT_EQ(renderer->info().lanes, kernels.f16.nativeLanes) << label;
+      EXPECT_EQ(renderer->info().precision, Precision::f16) << label << ": the CSV's precision column comes from here";
+      renderer->prepare(scene, kExtent, inPrecision(Precision::f32));
+      EXPECT_EQ(renderer->info().precision, Precision::f32) << label;
+      EXPECT_EQ(renderer->info().lanes, kernels.f32.nativeLanes) << label;
     }
   }
 }
@@ -114,9 +118,10 @@ class HalfPrecisionKernel : public ::testing::Test {
 };
 
 // Within 2/255 of the double reference at 160x120, frame 0, measured on
-// the GPU machine's Xeon (AVX3_SPR, 32 f16 lanes): see the floor's comment
-// in docs/render-model.md section 10. The floor is well under those.
-constexpr double kHalfPrecisionFloor = 0.5;
+// the GPU machine's Xeon (AVX3_SPR, 32 f16 lanes): default 75 %, random20
+// 93 %, random100 76 %; PSNR 28-34 dB (docs/render-model.md section 10).
+// The floor is well under those, as the GPU renderer's test has it.
+constexpr double kHalfPrecisionFloor = 0.6;
 
 TEST_F(HalfPrecisionKernel, ReachesItsMeasuredAgreementWithTheDoubleReference) {
   for (const std::int64_t target : targetsWithHalfPrecision()) {
@@ -131,8 +136,8 @@ TEST_F(HalfPrecisionKernel, ReachesItsMeasuredAgreementWithTheDoubleReference) {
         const Image half = test::renderFrame(*renderer, scene, kExtent, inPrecision(Precision::f16, stage), 0);
         const ImageAgreement fullAgreement = compareImages(full, reference);
         const ImageAgreement halfAgreement = compareImages(half, reference);
-        const std::string label = simd::targetName(target) + " " + name + " " + std::string(nameOf(stage)) +
-                                  ": f16 " + test::describe(halfAgreement);
+        const std::string label = simd::targetName(target) + " " + name + " " + std::string(nameOf(stage)) + ": f16 " +
+                                  test::describe(halfAgreement);
         std::cout << label << "\n";
         EXPECT_TRUE(fullAgreement.agrees()) << label;
         EXPECT_FALSE(std::ranges::equal(full.pixels(), half.pixels())) << label << ": f16 rendered the f32 image";
@@ -161,8 +166,8 @@ TEST_F(HalfPrecisionKernel, EveryLaneWidthAndRendererGivesTheSameImage) {
           const Image got = test::renderFrame(*renderer, scene, kExtent, options, 0);
           EXPECT_EQ(renderer->info().lanes, lanes);
           EXPECT_TRUE(std::ranges::equal(got.pixels(), want.pixels()))
-              << simd::targetName(target) << " " << nameOf(mode) << " lanes " << lanes << " " << nameOf(stage)
-              << ": " << test::describe(compareImages(got, want));
+              << simd::targetName(target) << " " << nameOf(mode) << " lanes " << lanes << " " << nameOf(stage) << ": "
+              << test::describe(compareImages(got, want));
         }
       }
     }
