@@ -49,7 +49,7 @@ inline constexpr bool kHalfLanes = sizeof(LaneT<D>) != sizeof(float);
 constexpr float kEpsilon = static_cast<float>(RT_HIT_EPSILON);
 
 // Whether this target computes in f16 natively (Highway 1.2 and newer:
-// AVX3_SPR with GCC, NEON with FP16, SVE, RVV with Zvfh); only then is the
+// AVX3_SPR with GCC, NEON_BF16, NEON built with FP16); only then is the
 // half-precision kernel compiled (docs/render-model.md section 10). Before
 // 1.2, HWY_HAVE_FLOAT16 meant f16 loads and conversions only.
 #undef RT_SIMD_NATIVE_F16
