@@ -30,6 +30,7 @@
 #include <span>
 
 #include "model_constants.h"
+#include "render/scalar/scalar_model.h"  // the f16 kernel's float steps: primaryRayDirection, toRgba8
 #include "render/simd/packet_kernels.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -42,9 +43,12 @@ template <class D>
 using MaskF = hn::Mask<D>;
 template <class D>
 using LaneT = hn::TFromD<D>;
-// Packets of f16 lanes (the half-precision kernel), not float ones.
+// A lane type of the half-precision kernel (hwy::float16_t), not float.
+template <class T>
+inline constexpr bool kHalfLane = sizeof(T) != sizeof(float);
+// Packets of f16 lanes.
 template <class D>
-inline constexpr bool kHalfLanes = sizeof(LaneT<D>) != sizeof(float);
+inline constexpr bool kHalfLanes = kHalfLane<LaneT<D>>;
 
 constexpr float kEpsilon = static_cast<float>(RT_HIT_EPSILON);
 
@@ -64,7 +68,7 @@ constexpr float kEpsilon = static_cast<float>(RT_HIT_EPSILON);
 template <class T>
 HWY_INLINE T LaneValue(float value) {
 #if RT_SIMD_NATIVE_F16
-  if constexpr (sizeof(T) != sizeof(float)) {
+  if constexpr (kHalfLane<T>) {
     return hwy::F16FromF32(value);
   } else {
     return value;
@@ -423,10 +427,11 @@ HWY_NOINLINE RayX<D> PrimaryRayOfFloats(D d, const FrameParams& f, int x, float 
   const float w = static_cast<float>(f.extent.width);
   const float h = static_cast<float>(f.extent.height);
   const VecF<D> px = hn::Iota(d, static_cast<float>(x));
-  const VecF<D> u = ((Splat(d, 2.0f) * (px + Splat(d, 0.5f)) / Splat(d, w) - Splat(d, 1.0f)) * Splat(d, f.tanHalfFov)) *
+  const CameraFrame& c = f.camera;
+  const VecF<D> u = ((Splat(d, 2.0f) * (px + Splat(d, 0.5f)) / Splat(d, w) - Splat(d, 1.0f)) * Splat(d, c.tanHalfFov)) *
                     Splat(d, w / h);
-  const Vec3x<D> dir = (Broadcast(d, f.forward) + u * Broadcast(d, f.right)) + Splat(d, v) * Broadcast(d, f.up);
-  return {Broadcast(d, f.cameraPosition), Normalize(d, dir)};
+  const Vec3x<D> dir = (Broadcast(d, c.forward) + u * Broadcast(d, c.right)) + Splat(d, v) * Broadcast(d, c.up);
+  return {Broadcast(d, c.position), Normalize(d, dir)};
 }
 
 // docs/render-model.md section 7: clamp, round(255 c), opaque; only the first n lanes land.
@@ -448,44 +453,41 @@ HWY_NOINLINE void ToRgba8OfFloats(D d, const Vec3x<D>& color, Rgba8* out, std::s
   }
 }
 
-// The f16 kernel's camera ray: its direction before normalisation in float,
-// lane by lane, then rounded (a pixel coordinate past 2048 has no f16
-// value); the normalisation is in f16 (docs/render-model.md section 10).
+// The f16 kernel's camera ray: its direction before normalisation is the
+// scalar model's, in float, lane by lane, then rounded (a pixel coordinate
+// past 2048 has no f16 value); the normalisation is in f16
+// (docs/render-model.md section 10).
 template <class D>
-HWY_NOINLINE RayX<D> PrimaryRayOfHalves(D d, const FrameParams& f, int x, float v) {
-  const float w = static_cast<float>(f.extent.width);
-  const float h = static_cast<float>(f.extent.height);
+HWY_NOINLINE RayX<D> PrimaryRayOfHalves(D d, const FrameParams& f, int x, int y) {
   HWY_ALIGN LaneT<D> direction[3][hn::MaxLanes(D())];
   for (std::size_t i = 0; i < hn::Lanes(d); ++i) {
-    const float px = static_cast<float>(x) + static_cast<float>(i);
-    const float u = ((2.0f * (px + 0.5f) / w - 1.0f) * f.tanHalfFov) * (w / h);
-    const glm::vec3 dir = (f.forward + u * f.right) + v * f.up;
+    const glm::vec3 dir = primaryRayDirection<float>(f.camera, f.extent, x + static_cast<int>(i), y);
     for (int k = 0; k < 3; ++k) direction[k][i] = LaneValue<LaneT<D>>(dir[k]);
   }
   const Vec3x<D> dir{hn::Load(d, direction[0]), hn::Load(d, direction[1]), hn::Load(d, direction[2])};
-  return {Broadcast(d, f.cameraPosition), Normalize(d, dir)};
+  return {Broadcast(d, f.camera.position), Normalize(d, dir)};
 }
 
-// The f16 kernel's last step in float, as the scalar toRgba8 does it: an
-// f16 sum of 255 c + 0.5 would round to its 1/8 steps above 128.
+// The f16 kernel's last step is the scalar model's, in float: an f16 sum of
+// 255 c + 0.5 would round to its 1/8 steps above 128.
 template <class D>
 HWY_NOINLINE void ToRgba8OfHalves(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
   HWY_ALIGN LaneT<D> channel[3][hn::MaxLanes(D())];
   hn::Store(color.x, d, channel[0]);
   hn::Store(color.y, d, channel[1]);
   hn::Store(color.z, d, channel[2]);
-  const auto quantize = [](LaneT<D> c) {
-    return static_cast<std::uint8_t>(std::clamp(static_cast<float>(c), 0.0f, 1.0f) * 255.0f + 0.5f);
-  };
   for (std::size_t i = 0; i < n; ++i) {
-    out[i] = Rgba8{quantize(channel[0][i]), quantize(channel[1][i]), quantize(channel[2][i]), 255};
+    const auto widen = [&](int k) { return static_cast<float>(channel[k][i]); };
+    out[i] = kernel::toRgba8(glm::vec3(widen(0), widen(1), widen(2)));
   }
 }
 
+// The camera rays of pixels x .. x+lanes-1 of row y; v is the row's vertical
+// coordinate, which the float kernel takes computed once per row.
 template <class D>
-HWY_INLINE RayX<D> PrimaryRay(D d, const FrameParams& f, int x, float v) {
+HWY_INLINE RayX<D> PrimaryRay(D d, const FrameParams& f, int x, int y, float v) {
   if constexpr (kHalfLanes<D>) {
-    return PrimaryRayOfHalves(d, f, x, v);
+    return PrimaryRayOfHalves(d, f, x, y);
   } else {
     return PrimaryRayOfFloats(d, f, x, v);
   }
@@ -512,12 +514,12 @@ void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> sc
   const D d;
   const int lanes = static_cast<int>(hn::Lanes(d));
   const float h = static_cast<float>(f.extent.height);
-  const float v = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / h) * f.tanHalfFov;
+  const float v = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / h) * f.camera.tanHalfFov;
   Rgba8* row = f.pixels + static_cast<std::size_t>(y) * static_cast<std::size_t>(f.extent.width);
   for (int x = x0; x < x1; x += lanes) {
     const auto n = static_cast<std::size_t>(std::min(lanes, x1 - x));
     const MaskF<D> active = hn::FirstN(d, n);  // a partial packet at the row's end
-    const RayX<D> ray = PrimaryRay(d, f, x, v);
+    const RayX<D> ray = PrimaryRay(d, f, x, y, v);
     Vec3x<D> color;
     if constexpr (kTwoPass) {
       color = TraceTwoPass<kBounce, kSphere, kDiscriminant, kSearch>(d, f, ray, active, scratch.data(), tally);
@@ -552,7 +554,7 @@ static_assert(!KernelVariant::fromIndex(kBruteForceVariants - 1).bvh &&
 
 // Float lanes have every variant; f16 lanes the brute-force ones.
 template <class T>
-inline constexpr unsigned kVariantsOf = sizeof(T) == sizeof(float) ? kHalfVariants : kBruteForceVariants;
+inline constexpr unsigned kVariantsOf = kHalfLane<T> ? kBruteForceVariants : kHalfVariants;
 
 // The kernels for packets of exactly kLanes lanes of T, if this target has them.
 template <unsigned kFirst, class T, std::size_t kLanes>

@@ -18,6 +18,7 @@
 #include "render/kernel_variant.h"
 #include "render/lane_counters.h"
 #include "render/shading_params.h"
+#include "scene/camera.h"
 
 namespace rt::simd {
 
@@ -49,11 +50,7 @@ struct FrameParams {
   SphereArrays spheres;
   SphereData<hwy::float16_t> halfSpheres;  // --precision f16: the same spheres rounded to f16 once
   ShadingParams shading;
-  glm::vec3 cameraPosition;
-  glm::vec3 forward;
-  glm::vec3 right;
-  glm::vec3 up;
-  float tanHalfFov;
+  CameraFrame camera;
   Extent extent;
   Rgba8* pixels;  // the working buffer, row-major, extent.width pixels per row
   // --traversal hybrid: a packet goes on as single rays where at most this

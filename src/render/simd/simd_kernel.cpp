@@ -165,11 +165,7 @@ std::span<float> SimdKernel::scratchOf(int slot) {
 }
 
 void SimdKernel::beginFrame(const CameraFrame& camera, Image& frame) {
-  params_.cameraPosition = camera.position;
-  params_.forward = camera.forward;
-  params_.right = camera.right;
-  params_.up = camera.up;
-  params_.tanHalfFov = camera.tanHalfFov;
+  params_.camera = camera;
   params_.extent = frame.extent();
   params_.pixels = frame.pixels().data();
   std::ranges::fill(counters_, LaneCounters{});
