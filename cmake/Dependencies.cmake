@@ -39,7 +39,24 @@ rt_require_package(Threads libc6-dev)
 rt_require_package(glm libglm-dev)
 rt_require_package(nlohmann_json nlohmann-json3-dev)
 # The scene loader's parser (On-Demand API; Debian 12 ships 3.0.1).
-rt_require_package(simdjson libsimdjson-dev)
+# Debian 12's libsimdjson-dev cannot be installed for a second architecture
+# (Multi-Arch: no), so the aarch64 cross build there has the arm64 library
+# (libsimdjson14:arm64, dependencies.toml) without its CMake files: the
+# target is then made from that library and the host's headers, which are
+# the same for every architecture.
+find_package(simdjson QUIET)
+if(NOT simdjson_FOUND AND CMAKE_CROSSCOMPILING)
+  find_library(RT_SIMDJSON_LIBRARY NAMES simdjson libsimdjson.so.14)
+  find_path(RT_SIMDJSON_INCLUDE simdjson.h)
+  if(RT_SIMDJSON_LIBRARY AND RT_SIMDJSON_INCLUDE)
+    add_library(simdjson::simdjson UNKNOWN IMPORTED)
+    set_target_properties(simdjson::simdjson PROPERTIES IMPORTED_LOCATION "${RT_SIMDJSON_LIBRARY}"
+                                                        INTERFACE_INCLUDE_DIRECTORIES "${RT_SIMDJSON_INCLUDE}")
+  endif()
+endif()
+if(NOT TARGET simdjson::simdjson)
+  rt_require_package(simdjson libsimdjson-dev)
+endif()
 rt_require_package(CLI11 libcli11-dev)
 rt_require_pkg_config(STB stb libstb-dev)
 # Threads of the simd_tbb and tbb_only renderers.

@@ -34,6 +34,7 @@ ROLES = {
     "python-interpreter",
     "develop",
     "lint",
+    "cross",
 }
 RELEASES = ("debian12", "debian13")
 # The restricted TOML that scripts/setup-debian's awk reads (dependencies.toml's header).
@@ -90,8 +91,38 @@ def test_setup_debian_reads_the_same_packages_as_a_toml_parser(repo_root, deps, 
         env=dict(os.environ, RT_DEBIAN_RELEASE=release.removeprefix("debian")),
         check=True,
     )
-    expected = list(dict.fromkeys(w for dep in deps.values() for w in words(dep[release])))
+    expected = list(dict.fromkeys(w for dep in deps.values() if dep["role"] != "cross" for w in words(dep[release])))
     assert listed.stdout.split() == expected
+
+
+@pytest.mark.parametrize("release", RELEASES)
+def test_setup_debian_lists_the_cross_build_as_a_toml_parser_reads_it(repo_root, deps, release):
+    """--cross aarch64: the cross compiler and emulator (role cross), then the
+    arm64 build of every entry marked cross = "arm64", from its
+    arm64debian<N> where it names other packages."""
+    listed = subprocess.run(
+        [str(repo_root / "scripts/setup-debian"), "--cross", "aarch64", "--list"],
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, RT_DEBIAN_RELEASE=release.removeprefix("debian")),
+        check=True,
+    )
+    expected = []
+    for dep in deps.values():
+        if dep["role"] == "cross":
+            expected += words(dep[release])
+        elif dep.get("cross") == "arm64":
+            expected += [f"{w}:arm64" for w in words(dep.get(f"arm64{release}") or dep[release])]
+    assert listed.stdout.split() == list(dict.fromkeys(expected))
+    assert "qemu-user" in expected and "libhwy-dev:arm64" in expected
+    assert all(dep.get("cross") in (None, "arm64") for dep in deps.values())
+
+
+def test_setup_debian_refuses_a_cross_target_it_has_no_toolchain_for(repo_root):
+    done = subprocess.run(
+        [str(repo_root / "scripts/setup-debian"), "--cross", "riscv64", "--list"], capture_output=True, text=True
+    )
+    assert done.returncode != 0 and "--cross takes aarch64" in done.stderr and not done.stdout
 
 
 def test_setup_debian_refuses_a_release_it_has_no_column_for(repo_root):

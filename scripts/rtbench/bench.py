@@ -35,7 +35,7 @@ import time
 import traceback
 from pathlib import Path
 
-from rtbench import builder, configurations, manifests, names, noise, profiles, runner
+from rtbench import builder, configurations, emulation, manifests, names, noise, profiles, runner
 from rtbench.profiles import ProfileError
 from rtbench.run_status import ManifestStatus, RunStatus
 
@@ -120,6 +120,12 @@ def plan(
     """The profile, its configurations and the run order, with the command
     line's scenes, renderer filter and overrides applied."""
     profile = profiles.load_profile(args.profile or DEFAULT_PROFILE)
+    host = emulation.host_architecture()
+    if profile.architecture and profile.architecture != host:
+        raise ProfileError(
+            f"{profile.path}: architecture = {profile.architecture!r}, and this machine is {host}: the profile "
+            f"measures an {profile.architecture} CPU natively; run it on one"
+        )
     scenes = [profiles.resolve_scene(s) for s in (args.scenes or profile.scenes)]
     forced = {k: getattr(args, k) for k in ("width", "height", "warmup", "frames") if getattr(args, k) is not None}
     configs = configurations.expand(profile, scenes, os.cpu_count() or 1, args.renderers, forced)
@@ -299,6 +305,9 @@ def resolve_binary(args: argparse.Namespace, profile: profiles.Profile) -> Path 
     if given:
         if not given.is_file():
             print(f"bench: binary {given}: no such file", file=sys.stderr)
+            return None
+        if reason := emulation.foreign_binary_reason(given):
+            print(f"bench: {reason}", file=sys.stderr)
             return None
         return given.resolve()
     try:

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from rtbench import names
+from rtbench import emulation, names
 from rtbench.run_status import NOT_RUN, RunStatus
 
 MANIFEST = "manifest.json"
@@ -218,6 +218,8 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     columns the statistics group by. The device is the CSV's own column."""
     columns = read_frame_csv(csv_path)
     meta = read_metadata(meta_path)
+    if reason := emulation.emulated_run_reason(meta_path, meta):
+        raise RunDataError(reason)
     _check_against_meta(csv_path, meta_path, columns, meta)
     frames = pd.DataFrame(columns)
     for column in names.OPTIONAL_COLUMNS:

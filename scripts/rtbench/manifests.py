@@ -23,7 +23,7 @@ from dataclasses import asdict, dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 
-from rtbench import atomic, configurations, load, noise, profiles, scenes
+from rtbench import atomic, configurations, emulation, load, noise, profiles, scenes
 from rtbench.configurations import Config
 from rtbench.profiles import Profile
 from rtbench.run_status import NOT_RUN, ManifestStatus, RunStatus
@@ -323,6 +323,8 @@ def _check_identity(run_dir: Path, manifest: Manifest, binary: Path) -> None:
         raise ResumeError(f"{run_dir / load.MANIFEST}: records no binary identity (written by an older runner)")
     if not binary.is_file():
         raise ResumeError(f"{run_dir}: the run's binary {binary} is gone; rebuild it or pass --binary")
+    if reason := emulation.foreign_binary_reason(binary):
+        raise ResumeError(f"{run_dir}: {reason}")
     if file_sha256(binary) != recorded:
         raise ResumeError(
             f"{run_dir}: {binary} is not the build this run started with (sha256 differs); "

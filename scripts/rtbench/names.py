@@ -141,6 +141,11 @@ CONFIG_ID = "config_id"
 BUILD_TYPE = _meta_field(META_BUILD, "build_type")
 CPU_MODEL = _meta_field(META_HOST, "cpu_model")
 LOGICAL_CORES = _meta_field(META_HOST, "logical_cores")
+# host.emulation: null natively; the emulator, emulated CPU and host architecture otherwise.
+HOST_EMULATION = _meta_field(META_HOST, "emulation")
+EMULATOR = _meta_field(META_HOST, HOST_EMULATION, "emulator")
+EMULATED_CPU = _meta_field(META_HOST, HOST_EMULATION, "cpu")
+EMULATION_HOST_ARCHITECTURE = _meta_field(META_HOST, HOST_EMULATION, "host_architecture")
 SOURCE = "source"
 GIT_COMMIT = _meta_field(META_BUILD, "git_commit")
 GIT_DIRTY = _meta_field(META_BUILD, "git_dirty")

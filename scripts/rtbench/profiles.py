@@ -98,6 +98,10 @@ class Profile:
     # The gpu_rt renderer's hit reordering; by default none, as it shades.
     gpu_rt_reorders: tuple[str, ...] = (names.NO_REORDER,)
     counters: bool = False
+    # The machine the profile is written for ("": any): the bench refuses it
+    # elsewhere, where it would measure something else (another SIMD target,
+    # or an emulator).
+    architecture: str = ""
     raw: dict = field(default_factory=dict, compare=False)
 
     def gpu_axis_values(self, key: str) -> tuple[str, ...]:
@@ -168,6 +172,7 @@ def parse_profile(raw: dict, path: Path) -> Profile:
         gpu_paths=tuple(values["gpu_paths"]),
         gpu_rt_reorders=tuple(values["gpu_rt_reorders"]),
         counters=values["counters"],
+        architecture=values["architecture"],
     )
 
 
@@ -230,6 +235,7 @@ TOP_RULES = {
     # The gpu_rt renderer's variant: --gpu-rt-reorder.
     "gpu_rt_reorders": Rule("str", [names.NO_REORDER], shape="list", choices=tuple(names.GPU_RT_REORDERS)),
     "counters": Rule("bool", False),
+    "architecture": Rule("str", "", choices=("", "x86_64", "aarch64")),
     "width": Rule("int", 800, minimum=1),
     "height": Rule("int", 600, minimum=1),
     "warmup": Rule("int", 1, minimum=0),

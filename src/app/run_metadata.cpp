@@ -52,6 +52,43 @@ nlohmann::json objectOf(const std::array<std::string_view, N>& keyNames, ValueOf
   throw std::logic_error("unhandled key of the metadata's " + std::string(object) + " object");
 }
 
+std::string fileText(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The architecture this binary was compiled for, named as uname names it.
+constexpr std::string_view kBinaryArchitecture =
+#if defined(__x86_64__)
+    "x86_64";
+#elif defined(__aarch64__)
+    "aarch64";
+#else
+    "other";
+#endif
+
+// The architecture /proc/cpuinfo describes, from keys only one of them uses.
+std::string_view cpuinfoArchitecture(std::string_view cpuinfo) {
+  if (cpuinfo.find("vendor_id") != std::string_view::npos) return "x86_64";
+  if (cpuinfo.find("CPU implementer") != std::string_view::npos) return "aarch64";
+  return "unknown";
+}
+
+nlohmann::json emulationJson(const std::optional<Emulation>& emulation) {
+  if (!emulation) return nullptr;
+  using Key = schema::MetadataHostEmulationKey;
+  return objectOf<Key>(schema::kMetadataHostEmulationKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::emulator: return emulation->emulator;
+      case Key::cpu: return emulation->cpu ? nlohmann::json(*emulation->cpu) : nlohmann::json(nullptr);
+      case Key::host_architecture: return emulation->hostArchitecture;
+    }
+    unhandledKey("host.emulation");
+  });
+}
+
 nlohmann::json hostInfo() {
   std::string cpu = firstValueOf("/proc/cpuinfo", "model name", ':');
   if (cpu.empty()) cpu = "unknown";
@@ -69,6 +106,12 @@ nlohmann::json hostInfo() {
       case Key::logical_cores: return std::thread::hardware_concurrency();
       case Key::os: return os;
       case Key::kernel: return kernel;
+      case Key::emulation: {
+        std::string processName = fileText("/proc/self/comm");
+        while (!processName.empty() && processName.back() == '\n') processName.pop_back();
+        const char* qemuCpu = std::getenv("QEMU_CPU");
+        return emulationJson(emulationOf(processName, fileText("/proc/cpuinfo"), qemuCpu != nullptr ? qemuCpu : ""));
+      }
     }
     unhandledKey("host");
   });
@@ -306,6 +349,19 @@ std::string formatRfc3339(std::chrono::system_clock::time_point t) {
   std::snprintf(buffer, sizeof buffer, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", utc.tm_year + 1900, utc.tm_mon + 1,
                 utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, static_cast<int>(ms));
   return buffer;
+}
+
+std::optional<Emulation> emulationOf(std::string_view processName, std::string_view cpuinfo,
+                                     std::string_view emulatedCpu) {
+  const bool qemu = processName.starts_with("qemu-");
+  const std::string_view described = cpuinfoArchitecture(cpuinfo);
+  const bool foreignCpu = described != "unknown" && described != kBinaryArchitecture;
+  if (!qemu && !foreignCpu) return std::nullopt;
+  Emulation e{.emulator = qemu ? std::string(processName) : "unknown",
+              .cpu = std::nullopt,
+              .hostArchitecture = std::string(described)};
+  if (!emulatedCpu.empty()) e.cpu = std::string(emulatedCpu);
+  return e;
 }
 
 std::string makeRunId(std::chrono::system_clock::time_point startedAt) {

@@ -27,6 +27,22 @@ struct WindowOutcome {
   bool closed = false;
 };
 
+// A run under a user-mode emulator (qemu-user running an aarch64 binary on
+// x86-64, say), whose timings are not the speed of any machine.
+struct Emulation {
+  std::string emulator;            // the emulator's process name, or "unknown"
+  std::optional<std::string> cpu;  // the emulated CPU model, where the emulator's environment names it
+  std::string hostArchitecture;    // what /proc/cpuinfo describes: x86_64, aarch64 or unknown
+};
+
+// Whether this process is emulated, from what the system shows it:
+// `processName` (/proc/self/comm, where qemu-user leaves its own name),
+// `cpuinfo` (/proc/cpuinfo, which qemu-user 7 passes through from the host:
+// another architecture than the binary's gives emulation away) and
+// `emulatedCpu` (QEMU_CPU, the emulated CPU model when it was chosen that way).
+std::optional<Emulation> emulationOf(std::string_view processName, std::string_view cpuinfo,
+                                     std::string_view emulatedCpu);
+
 // A fresh run identifier: UTC start time plus a random suffix.
 std::string makeRunId(std::chrono::system_clock::time_point startedAt);
 // RFC 3339, UTC, with milliseconds: 2026-11-22T02:14:46.123Z

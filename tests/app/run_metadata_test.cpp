@@ -48,6 +48,44 @@ TEST(RunMetadata, HasEverySchemaKeyAndTheSceneHash) {
   EXPECT_TRUE(commit.size() == 40 || commit == "unknown") << commit;
 }
 
+// /proc/cpuinfo as x86-64 and aarch64 Linux begin it; the binary's own
+// architecture is the native one, the other the foreign one.
+constexpr std::string_view kX86Cpuinfo = "processor\t: 0\nvendor_id\t: AuthenticAMD\nmodel name\t: AMD EPYC\n";
+constexpr std::string_view kArmCpuinfo = "processor\t: 0\nBogoMIPS\t: 48.00\nCPU implementer\t: 0x41\n";
+#if defined(__aarch64__)
+constexpr std::string_view kNativeCpuinfo = kArmCpuinfo, kForeignCpuinfo = kX86Cpuinfo;
+constexpr std::string_view kForeignArchitecture = "x86_64";
+#else
+constexpr std::string_view kNativeCpuinfo = kX86Cpuinfo, kForeignCpuinfo = kArmCpuinfo;
+constexpr std::string_view kForeignArchitecture = "aarch64";
+#endif
+
+TEST(RunEmulation, ANativeProcessOnItsOwnArchitectureIsNotEmulated) {
+  EXPECT_EQ(emulationOf("raytracer", kNativeCpuinfo, ""), std::nullopt);
+  // A QEMU_CPU left in the environment does not make a native run emulated.
+  EXPECT_EQ(emulationOf("raytracer", kNativeCpuinfo, "max"), std::nullopt);
+  // Nor does a /proc/cpuinfo that names no architecture we know.
+  EXPECT_EQ(emulationOf("raytracer", "processor\t: 0\n", ""), std::nullopt);
+}
+
+TEST(RunEmulation, QemuUserIsKnownByItsProcessNameAndNamesTheEmulatedCpu) {
+  const auto e = emulationOf("qemu-aarch64", kNativeCpuinfo, "cortex-a72");
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->emulator, "qemu-aarch64");
+  EXPECT_EQ(e->cpu, "cortex-a72");
+  const auto unnamed = emulationOf("qemu-aarch64", kForeignCpuinfo, "");
+  ASSERT_TRUE(unnamed.has_value());
+  EXPECT_EQ(unnamed->cpu, std::nullopt);
+  EXPECT_EQ(unnamed->hostArchitecture, kForeignArchitecture);
+}
+
+TEST(RunEmulation, AForeignCpuinfoGivesAnUnnamedEmulatorAway) {
+  const auto e = emulationOf("raytracer", kForeignCpuinfo, "");
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->emulator, "unknown");
+  EXPECT_EQ(e->hostArchitecture, kForeignArchitecture);
+}
+
 TEST(RunMetadata, RecordsTheLoadAndPrepareTimes) {
   const SequentialRun run;
   const auto& [config, scene, now, id] = run;

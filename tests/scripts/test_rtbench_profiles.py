@@ -145,6 +145,10 @@ PROFILE_HEAD = 'description = "x"\nscenes = ["default"]\nstages = ["optimized"]\
             PROFILE_HEAD + 'interleave = "random"\n[renderers.gpu]\n',
             "interleave must be one of round-robin, shuffle, blocked, not 'random'",
         ),
+        (
+            PROFILE_HEAD + 'architecture = "arm"\n[renderers.sequential]\n',
+            "architecture must be one of , x86_64, aarch64, not 'arm'",
+        ),
     ],
 )
 def test_bad_profiles_are_rejected_naming_file_and_key(tmp_path, body, message):
@@ -308,3 +312,21 @@ def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow
         assert {c.traversal for c in configs if c.renderer == renderer and c.accel == "bvh"} == walks
     generated = (10, 100000, 1000000)
     assert all(c.scene_path.startswith(str(profiles.GENERATED_SCENES)) for c in configs if _spheres(c) in generated)
+
+
+def test_the_thesis_neon_profiles_are_for_aarch64_at_four_lanes_on_both_optimisation_levels():
+    optimised, unoptimised = profiles.load_profile("thesis-neon"), profiles.load_profile("thesis-neon-o0")
+    assert (optimised.preset, unoptimised.preset) == ("release", "paper-o0")
+    for p in (optimised, unoptimised):
+        assert p.architecture == "aarch64"
+        assert [v.label for v in p.variants] == ["original", "single-pass", "optimized"]
+        assert {r: p.renderers[r]["lanes"] for r in ("simd_tbb", "simd_only")} == {"simd_tbb": [4], "simd_only": [4]}
+
+
+def test_bench_refuses_a_profile_written_for_another_architecture(tmp_path, repo_root):
+    from rtbench import bench, emulation
+
+    other = "x86_64" if emulation.host_architecture() == "aarch64" else "aarch64"
+    path = _write(tmp_path, PROFILE_HEAD + f'architecture = "{other}"\n[renderers.sequential]\n')
+    with pytest.raises(ProfileError, match=f"architecture = '{other}', and this machine is"):
+        bench.plan(bench.parse_args(["--profile", str(path), "--dry-run"], "bench"))

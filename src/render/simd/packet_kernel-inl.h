@@ -86,6 +86,10 @@ HWY_INLINE VecF<D> Splat(D d, float value) {
 
 // ---- Packet types (the thesis' Vec3_x4, Ray_x4, RaycastHit_x4) ----------
 // The scalar kernel's Vec3, Ray and RaycastHit (scalar/ray.h), one lane per pixel.
+// Always built whole, never default-constructed and then assigned: GCC
+// compiles an implicit default constructor without the target's attributes,
+// and with Highway 1.0 on NEON (whose target adds +crypto) it then cannot
+// inline the vectors' always-inline constructors, which fails the build.
 
 template <class D>
 struct Vec3x {
@@ -349,15 +353,12 @@ class PathSegmentStore {
     hn::Store(hn::VecFromMask(d_, s.hit.hit), d_, at(segment, kHitMask));
   }
   [[nodiscard]] PathSegmentX<D> get(int segment) const {
-    PathSegmentX<D> s;
-    s.ray.origin = get3(segment, kOriginX);
-    s.ray.direction = get3(segment, kDirectionX);
-    s.hit.position = get3(segment, kPositionX);
-    s.hit.normal = get3(segment, kNormalX);
-    s.hit.distance = hn::Load(d_, at(segment, kDistance));
-    s.hit.sphereColor = get3(segment, kColorR);
-    s.hit.hit = hn::MaskFromVec(hn::Load(d_, at(segment, kHitMask)));
-    return s;
+    return {.ray = {.origin = get3(segment, kOriginX), .direction = get3(segment, kDirectionX)},
+            .hit = {.hit = hn::MaskFromVec(hn::Load(d_, at(segment, kHitMask))),
+                    .position = get3(segment, kPositionX),
+                    .normal = get3(segment, kNormalX),
+                    .distance = hn::Load(d_, at(segment, kDistance)),
+                    .sphereColor = get3(segment, kColorR)}};
   }
 
  private:
@@ -520,12 +521,13 @@ void RenderSpan(const FrameParams& f, int y, int x0, int x1, std::span<float> sc
     const auto n = static_cast<std::size_t>(std::min(lanes, x1 - x));
     const MaskF<D> active = hn::FirstN(d, n);  // a partial packet at the row's end
     const RayX<D> ray = PrimaryRay(d, f, x, y, v);
-    Vec3x<D> color;
-    if constexpr (kTwoPass) {
-      color = TraceTwoPass<kBounce, kSphere, kDiscriminant, kSearch>(d, f, ray, active, scratch.data(), tally);
-    } else {
-      color = TraceSinglePass<kBounce, kSphere, kDiscriminant, kSearch>(d, f, ray, active, tally);
-    }
+    const Vec3x<D> color = [&] {
+      if constexpr (kTwoPass) {
+        return TraceTwoPass<kBounce, kSphere, kDiscriminant, kSearch>(d, f, ray, active, scratch.data(), tally);
+      } else {
+        return TraceSinglePass<kBounce, kSphere, kDiscriminant, kSearch>(d, f, ray, active, tally);
+      }
+    }();
     ToRgba8(d, color, row + x, n);
   }
 }

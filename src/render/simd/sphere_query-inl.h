@@ -100,19 +100,20 @@ HWY_INLINE Vec3x<D> Gather3(D d, const LaneT<D>* x, const LaneT<D>* y, const Lan
 template <class D>
 HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereData<LaneT<D>>& s, const RayX<D>& ray, VecF<D> bestT,
                                     VecF<D> bestIndex) {
-  RaycastHitX<D> h;
-  h.hit = bestIndex >= hn::Zero(d);
+  const MaskF<D> hit = bestIndex >= hn::Zero(d);
   // Missed lanes read sphere 0 at distance 0: junk, but finite junk.
   const hn::RebindToSigned<D> di;
   const auto index = hn::ConvertTo(di, hn::Max(bestIndex, hn::Zero(d)));
-  h.distance = hn::IfThenElseZero(h.hit, bestT);
-  h.position = ray.origin + h.distance * ray.direction;
+  const VecF<D> distance = hn::IfThenElseZero(hit, bestT);
+  const Vec3x<D> position = ray.origin + distance * ray.direction;
   const Vec3x<D> center = Gather3(d, s.centerX, s.centerY, s.centerZ, index);
-  const Vec3x<D> outward = (h.position - center) / GatherLanes(d, s.radius, index);
+  const Vec3x<D> outward = (position - center) / GatherLanes(d, s.radius, index);
   const MaskF<D> leaving = Dot(ray.direction, outward) > hn::Zero(d);
-  h.normal = Select(leaving, Splat(d, -1.0f) * outward, outward);
-  h.sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index);
-  return h;
+  return {.hit = hit,
+          .position = position,
+          .normal = Select(leaving, Splat(d, -1.0f) * outward, outward),
+          .distance = distance,
+          .sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index)};
 }
 
 // Brute force: every sphere in index order. Lanes outside `active` (past

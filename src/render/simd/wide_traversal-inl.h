@@ -18,6 +18,11 @@ using WideTag = hn::CappedTag<float, kWideBvhWidth>;
 // the plane of a node's boxes it meets first (lo where it travels up the
 // axis), so a box costs a subtraction and a multiplication per plane.
 struct SingleRayX {
+  // Written out rather than implicit: GCC compiles an implicit constructor
+  // of a non-template struct without the target's attributes, so with
+  // Highway 1.0 on NEON (whose target adds +crypto) it cannot inline the
+  // vectors' always-inline constructors and the build fails.
+  HWY_INLINE SingleRayX() {}
   VecF<WideTag> origin[3];
   VecF<WideTag> direction[3];
   VecF<WideTag> inverse[3];

@@ -1,0 +1,150 @@
+"""The aarch64 build (preset aarch64, cross-compiled) run under qemu-user on
+x86-64: every renderer's image byte for byte the x86-64 build's, on a NEON
+CPU without SVE (cortex-a72) and on qemu's `max` (SVE2, FP16, BF16); the
+run metadata marks the run as emulated, and neither the bench runner nor the
+report takes its timings as speed.
+
+Needs the aarch64 preset's binary ($RT_AARCH64_BINARY, else
+build/aarch64/raytracer) and qemu-aarch64; scripts/test builds it when
+RT_TEST_PRESETS names aarch64, and these tests skip, saying so, elsewhere."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from rtbench import emulation, load
+
+# The emulated CPUs: NEON without SVE (a Raspberry Pi 4's core), and qemu's
+# everything-on model (SVE2 at 512 bits, FP16, BF16).
+CPUS = ("cortex-a72", "max")
+SIZE = ["--width", "160", "--height", "120"]
+SMALL = ["--width", "64", "--height", "48"]
+# One image per configuration: every CPU renderer on both accels and the
+# thesis' stages, the SIMD kernel's traversals and lane widths; the GPU
+# renderer on arm64 lavapipe at a smaller size (lavapipe's JIT under qemu is slow).
+CONFIGS = {
+    "sequential": ["--sequential"],
+    "sequential_bvh": ["--sequential", "--accel", "bvh"],
+    "tbb_only": ["--tbb-only"],
+    "simd_only_original": ["--simd-only", "--stage", "original"],
+    "simd_only_optimized": ["--simd-only", "--stage", "optimized"],
+    "simd_only_lanes4": ["--simd-only", "--lanes", "4"],
+    "simd_tbb": ["--simd"],
+    "simd_tbb_bvh_packet": ["--simd", "--accel", "bvh", "--traversal", "packet"],
+    "simd_tbb_bvh_single": ["--simd", "--accel", "bvh", "--traversal", "single"],
+    "simd_tbb_bvh_hybrid": ["--simd", "--accel", "bvh", "--traversal", "hybrid"],
+    "embree": ["--embree"],
+    "gpu": ["--gpu", *SMALL],
+    "gpu_bvh": ["--gpu", "--accel", "bvh", *SMALL],
+}
+
+
+@pytest.fixture(scope="module")
+def aarch64_raytracer(repo_root) -> Path:
+    given = os.environ.get("RT_AARCH64_BINARY")
+    binary = Path(given) if given else repo_root / "build/aarch64/raytracer"
+    if not binary.is_file():
+        pytest.skip(f"no aarch64 build at {binary}: build the aarch64 preset (RT_TEST_PRESETS='... aarch64')")
+    if shutil.which("qemu-aarch64") is None:
+        pytest.skip("no qemu-aarch64: scripts/setup-debian --cross aarch64 installs it")
+    return binary
+
+
+def emulated_env(cpu: str) -> dict[str, str]:
+    # lavapipe's arm64 driver only: the loader would otherwise try, and fail, every x86-64 one first.
+    return {**os.environ, "QEMU_CPU": cpu, "VK_ICD_FILENAMES": "/usr/share/vulkan/icd.d/lvp_icd.aarch64.json"}
+
+
+def render(command: list, scene: Path, out: Path, args: list[str], env=None) -> Path:
+    png = out.with_suffix(".png")
+    done = subprocess.run(
+        [
+            *map(str, command),
+            str(scene),
+            *(args if "--width" in args else [*SIZE, *args]),
+            "--warmup",
+            "0",
+            "--frames",
+            "1",
+            "--present",
+            "none",
+            "-q",
+            "--csv",
+            str(out.with_suffix(".csv")),
+            "--save-frame",
+            f"0:{png}",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr
+    return png
+
+
+@pytest.fixture(scope="module")
+def x86_images(raytracer, repo_root, tmp_path_factory) -> dict[str, bytes]:
+    out = tmp_path_factory.mktemp("x86")
+    scene = repo_root / "scenes/random20.json"
+    return {name: render([raytracer], scene, out / name, args).read_bytes() for name, args in CONFIGS.items()}
+
+
+@pytest.mark.parametrize("cpu", CPUS)
+@pytest.mark.parametrize("config", CONFIGS)
+def test_every_renderer_draws_the_x86_image_byte_for_byte(
+    aarch64_raytracer, repo_root, tmp_path, x86_images, cpu, config
+):
+    png = render(
+        ["qemu-aarch64", aarch64_raytracer],
+        repo_root / "scenes/random20.json",
+        tmp_path / config,
+        CONFIGS[config],
+        emulated_env(cpu),
+    )
+    assert png.read_bytes() == x86_images[config]
+
+
+@pytest.mark.parametrize("cpu", CPUS)
+def test_the_metadata_marks_the_emulated_run_and_the_native_one_not(
+    raytracer, aarch64_raytracer, repo_root, tmp_path, cpu
+):
+    scene = repo_root / "scenes/default.json"
+    render(["qemu-aarch64", aarch64_raytracer], scene, tmp_path / "emulated", ["--simd-only"], emulated_env(cpu))
+    render([raytracer], scene, tmp_path / "native", ["--simd-only"])
+    emulated = json.loads((tmp_path / "emulated.meta.json").read_text())
+    native = json.loads((tmp_path / "native.meta.json").read_text())
+    assert emulated["host"]["emulation"] == {
+        "emulator": "qemu-aarch64",
+        "cpu": cpu,
+        "host_architecture": emulation.host_architecture(),
+    }
+    assert emulated["host"]["kernel"].endswith("aarch64")  # qemu-user reports the guest's machine
+    assert native["host"]["emulation"] is None
+
+
+def test_the_report_refuses_an_emulated_run(aarch64_raytracer, repo_root, tmp_path):
+    scene = repo_root / "scenes/default.json"
+    render(["qemu-aarch64", aarch64_raytracer], scene, tmp_path / "emulated", ["--simd-only"], emulated_env("max"))
+    csv, meta = tmp_path / "emulated.csv", tmp_path / "emulated.meta.json"
+    with pytest.raises(load.RunDataError, match=r"emulated\.meta\.json: an emulated run \(qemu-aarch64 emulating max"):
+        load.load_one(csv, meta, "simd_only", 0, "test")
+
+
+def test_the_bench_runner_refuses_the_aarch64_binary_before_it_starts(aarch64_raytracer, repo_root, tmp_path):
+    runs = tmp_path / "runs"
+    done = subprocess.run(
+        [str(repo_root / "scripts/bench"), "--binary", str(aarch64_raytracer), "--runs-dir", str(runs), "quick"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode != 0
+    assert f"is an aarch64 binary and this machine is {emulation.host_architecture()}" in done.stderr
+    assert not runs.exists() or not any(runs.iterdir())
