@@ -56,9 +56,19 @@ def aarch64_raytracer(repo_root) -> Path:
     return binary
 
 
+# lavapipe's manifest for arm64: Debian 12 names one per architecture, Debian
+# 13 one for all (its library path relative, so the arm64 loader opens the
+# arm64 library).
+LAVAPIPE_ICDS = [Path("/usr/share/vulkan/icd.d/lvp_icd.aarch64.json"), Path("/usr/share/vulkan/icd.d/lvp_icd.json")]
+
+
 def emulated_env(cpu: str) -> dict[str, str]:
-    # lavapipe's arm64 driver only: the loader would otherwise try, and fail, every x86-64 one first.
-    return {**os.environ, "QEMU_CPU": cpu, "VK_ICD_FILENAMES": "/usr/share/vulkan/icd.d/lvp_icd.aarch64.json"}
+    env = {**os.environ, "QEMU_CPU": cpu}
+    # lavapipe only: the loader would otherwise try, and fail, every x86-64 driver first.
+    icd = next((p for p in LAVAPIPE_ICDS if p.is_file()), None)
+    if icd is not None:
+        env["VK_ICD_FILENAMES"] = str(icd)
+    return env
 
 
 def render(command: list, scene: Path, out: Path, args: list[str], env=None) -> Path:
