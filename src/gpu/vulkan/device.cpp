@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <string_view>
 
 namespace rt::gpu {
 namespace {
@@ -24,12 +25,20 @@ std::string versionString(std::uint32_t v) {
 // parameter types are deduced from the member it is assigned to (see
 // messengerCreateInfo) is one callback for both, without a cast between
 // function types.
+//
+// The loader's own messages are printed, not counted: on a multiarch machine
+// it reports every driver manifest of another architecture (arm64 or i386
+// Mesa beside the amd64 one) as an error it then ignores. What the loader
+// cannot get past fails the call it belongs to, and the count is for the
+// validation layer's findings.
 template <typename Severity, typename Types, typename CallbackData>
 VKAPI_ATTR VkBool32 VKAPI_CALL countMessage(Severity severity, Types /*types*/, const CallbackData* data, void* user) {
   const bool error = (static_cast<VkDebugUtilsMessageSeverityFlagBitsEXT>(severity) &
                       VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) != 0;
-  static_cast<ValidationCounter*>(user)->add(error);
-  std::fprintf(stderr, "vulkan %s: %s\n", error ? "error" : "warning", data->pMessage ? data->pMessage : "");
+  const bool fromLoader = data->pMessageIdName != nullptr && std::string_view(data->pMessageIdName) == "Loader Message";
+  if (!fromLoader) static_cast<ValidationCounter*>(user)->add(error);
+  std::fprintf(stderr, "vulkan %s%s: %s\n", fromLoader ? "loader " : "", error ? "error" : "warning",
+               data->pMessage ? data->pMessage : "");
   return VK_FALSE;  // never abort the call: the count is what fails a test
 }
 
