@@ -238,7 +238,10 @@ def test_frames_are_presented_under_validation(windowed, repo_root, tmp_path, di
         timeout=DEADLINE_S * 2,
     )
     assert done.returncode == 0, done.stderr
-    assert "vulkan" not in done.stderr, done.stderr  # not one validation message
+    # Not one validation message; the loader's own (a foreign architecture's
+    # driver manifests on a multiarch machine) are printed as "vulkan loader".
+    validation = [line for line in done.stderr.splitlines() if line.startswith(("vulkan error", "vulkan warning"))]
+    assert validation == [], done.stderr
     rows = read_csv(tmp_path / "run.csv")
     assert [int(r["frame"]) for r in rows] == list(range(warmup + frames))
     assert {r["present"] for r in rows} == {"window"}
