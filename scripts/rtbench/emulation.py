@@ -1,5 +1,6 @@
 """Emulated runs: an aarch64 build run on x86-64 under qemu-user measures the
-emulator, not a machine (about 150x slower, and not uniformly so), so its
+emulator, not a machine (23x slower for sequential, 220x for simd_only on
+our 2-core AMD: not even uniformly so), so its
 timings must not reach a table as speed. Two guards: the bench runner
 refuses a binary of another architecture than this machine's before it
 starts, and the loader refuses a run whose metadata says it was emulated

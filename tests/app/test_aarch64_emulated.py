@@ -11,6 +11,7 @@ RT_TEST_PRESETS names aarch64, and these tests skip, saying so, elsewhere."""
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -18,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from rtbench import emulation, load
+from rtbench import emulation, load, precision
 
 # The emulated CPUs: NEON without SVE (a Raspberry Pi 4's core), and qemu's
 # everything-on model (SVE2 at 512 bits, FP16, BF16).
@@ -134,7 +135,8 @@ def test_embree_agrees_with_the_double_reference_as_on_x86(aarch64_raytracer, re
         emulated_env(cpu),
     )
     agreement = json.loads((tmp_path / "embree.meta.json").read_text())["agreement"]
-    assert agreement["within_tolerance"] >= 0.995 and (agreement["psnr_db"] is None or agreement["psnr_db"] >= 40)
+    psnr_db = math.inf if agreement["psnr_db"] is None else agreement["psnr_db"]  # None: identical
+    assert precision.agrees(agreement["within_tolerance"], psnr_db) == 1.0, agreement
 
 
 @pytest.mark.parametrize("cpu", CPUS)

@@ -156,16 +156,17 @@ TEST_F(HalfPrecisionKernel, EveryLaneWidthAndRendererGivesTheSameImage) {
   const Scene scene = test::loadNamedScene("random100");
   for (const std::int64_t target : targetsWithHalfPrecision()) {
     const simd::ScopedTargetOverride force(target);
+    // The widths the target's float packets have: a renderer checks --lanes
+    // when it is made, before it knows the precision (NEON_BF16: 4 float
+    // lanes, so f16 runs at 4 or natively at 8).
+    const int floatLanes = simd::dispatchedKernels().f32.nativeLanes;
     for (const Stage stage : {Stage::original, Stage::optimized}) {
       const RenderOptions options = inPrecision(Precision::f16, stage);
       const auto native = makeCpuRenderer(RendererKind::simd_only);
       const Image want = test::renderFrame(*native, scene, kExtent, options, 0);
       for (const RendererKind mode : kSimdRenderers) {
         for (const int lanes : schema::kLaneWidths) {
-          // The widths the target's float packets have: a renderer checks
-          // --lanes when it is made, before it knows the precision (NEON_BF16:
-          // 4 float lanes, so f16 runs at 4 or natively at 8).
-          if (lanes > simd::dispatchedKernels().f32.nativeLanes) continue;
+          if (lanes > floatLanes) continue;
           ParallelSettings settings;
           settings.lanes = lanes;
           const auto renderer = makeCpuRenderer(mode, settings);
