@@ -1,8 +1,9 @@
 """The aarch64 build (preset aarch64, cross-compiled) run under qemu-user on
 x86-64: every renderer's image byte for byte the x86-64 build's, on a NEON
-CPU without SVE (cortex-a72) and on qemu's `max` (SVE2, FP16, BF16); the
-run metadata marks the run as emulated, and neither the bench runner nor the
-report takes its timings as speed.
+CPU without SVE (cortex-a72) and on qemu's `max` (SVE2, FP16, BF16), whose
+SIMD renderers run SVE2 at 128, 256 and 512-bit vectors and report the lanes
+that gives; the run metadata marks the run as emulated, and neither the
+bench runner nor the report takes its timings as speed.
 
 Needs the aarch64 preset's binary ($RT_AARCH64_BINARY, else
 build/aarch64/raytracer) and qemu-aarch64; scripts/test builds it when
@@ -22,7 +23,10 @@ import pytest
 from rtbench import emulation, load, precision
 
 # The emulated CPUs: NEON without SVE (a Raspberry Pi 4's core), and qemu's
-# everything-on model (SVE2 at 512 bits, FP16, BF16).
+# everything-on model (SVE2, FP16, BF16) at each of SVE's vector lengths
+# that machines have: 128 bits (Neoverse N2, Graviton 4), 256 (Graviton 3,
+# Neoverse V1), 512 (A64FX); qemu-user's default is 512.
+SVE_CPUS = {bits: f"max,sve-default-vector-length={bits // 8}" for bits in (128, 256, 512)}
 CPUS = ("cortex-a72", "max")
 SIZE = ["--width", "160", "--height", "120"]
 SMALL = ["--width", "64", "--height", "48"]
@@ -120,6 +124,58 @@ def test_every_renderer_draws_the_x86_image_byte_for_byte(
         emulated_env(cpu),
     )
     assert png.read_bytes() == x86_images[config]
+
+
+SIMD_CONFIGS = [name for name in CONFIGS if name.startswith("simd_")]
+
+
+@pytest.mark.parametrize("bits", [128, 256])
+@pytest.mark.parametrize("config", SIMD_CONFIGS)
+def test_sve_at_each_vector_length_draws_the_x86_image_byte_for_byte(
+    aarch64_raytracer, repo_root, tmp_path, x86_images, bits, config
+):
+    """512 bits is `max` above; the other configurations do not run SVE."""
+    png = render(
+        ["qemu-aarch64", aarch64_raytracer],
+        repo_root / "scenes/random20.json",
+        tmp_path / config,
+        CONFIGS[config],
+        emulated_env(SVE_CPUS[bits]),
+    )
+    assert png.read_bytes() == x86_images[config]
+
+
+@pytest.mark.parametrize("bits", sorted(SVE_CPUS))
+def test_sve_runs_at_the_vector_length_and_reports_its_lanes(aarch64_raytracer, repo_root, tmp_path, bits):
+    scene = repo_root / "scenes/default.json"
+    native = bits // 32
+    for lanes in ("native", "4", "8", "16"):
+        out = tmp_path / f"lanes{lanes}"
+        done = subprocess.run(
+            [
+                "qemu-aarch64",
+                str(aarch64_raytracer),
+                str(scene),
+                *SMALL,
+                *["--simd-only", "--lanes", lanes, "--warmup", "0", "--frames", "1", "--present", "none", "-q"],
+                *["--csv", str(out.with_suffix(".csv"))],
+            ],
+            capture_output=True,
+            text=True,
+            env=emulated_env(SVE_CPUS[bits]),
+            timeout=600,
+        )
+        if lanes != "native" and int(lanes) > native:
+            assert done.returncode == 2, done.stderr
+            assert f"--lanes {lanes}" in done.stderr
+            continue
+        assert done.returncode == 0, done.stderr
+        config = json.loads(out.with_suffix(".meta.json").read_text())["config"]
+        assert config["simd_target"] == "SVE2"
+        assert config["lanes"] == (native if lanes == "native" else int(lanes))
+        header, row = (line.split(",") for line in out.with_suffix(".csv").read_text().splitlines()[:2])
+        assert row[header.index("lanes")] == str(config["lanes"])
+        assert row[header.index("simd_target")] == "SVE2"
 
 
 @pytest.mark.parametrize("cpu", CPUS)

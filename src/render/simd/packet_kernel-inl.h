@@ -84,6 +84,70 @@ HWY_INLINE VecF<D> Splat(D d, float value) {
   return hn::Set(d, LaneValue<LaneT<D>>(value));
 }
 
+// ---- Holding vectors (docs/render-model.md section 9) -------------------
+// Scalable targets' vectors (SVE, RVV) are sizeless types: no struct
+// member, no array element. There the packet types hold each vector's lanes
+// in memory, stored where a packet is built and loaded where it is read;
+// on every other target they hold the vector itself, and Hold and Get are
+// the identity. Arithmetic uses Highway's named operations (Add, Lt, ...),
+// since scalable vectors have no operators either.
+
+// The most lanes a packet has: lane masks travel as 32 bits (LaneBits), and
+// no SVE machine is wider than 512 bits (16 float lanes).
+inline constexpr std::size_t kMaxPacketLanes = 32;
+
+// The packet of a target's widest vector, at most kMaxPacketLanes lanes of T.
+template <class T>
+using NativeTag = hn::CappedTag<T, kMaxPacketLanes>;
+
+#if HWY_HAVE_SCALABLE
+template <class D>
+struct HeldF {
+  HWY_ALIGN LaneT<D> lanes[hn::MaxLanes(D())];
+};
+template <class D>
+struct HeldM {
+  std::uint8_t bits[8];  // StoreMaskBits' layout; at most kMaxPacketLanes lanes
+};
+template <class D>
+HWY_INLINE HeldF<D> Hold(D d, VecF<D> v) {
+  HeldF<D> held;
+  hn::Store(v, d, held.lanes);
+  return held;
+}
+template <class D>
+HWY_INLINE HeldM<D> HoldMask(D d, MaskF<D> m) {
+  HeldM<D> held{};
+  hn::StoreMaskBits(d, m, held.bits);
+  return held;
+}
+template <class D>
+HWY_INLINE VecF<D> Get(const HeldF<D>& held) {
+  return hn::Load(D(), held.lanes);
+}
+template <class D>
+HWY_INLINE MaskF<D> Get(const HeldM<D>& held) {
+  return hn::LoadMaskBits(D(), held.bits);
+}
+#else
+template <class D>
+using HeldF = VecF<D>;
+template <class D>
+using HeldM = MaskF<D>;
+template <class D>
+HWY_INLINE VecF<D> Hold(D, VecF<D> v) {
+  return v;
+}
+template <class D>
+HWY_INLINE MaskF<D> HoldMask(D, MaskF<D> m) {
+  return m;
+}
+template <class V>
+HWY_INLINE V Get(V v) {
+  return v;
+}
+#endif
+
 // ---- Packet types (the thesis' Vec3_x4, Ray_x4, RaycastHit_x4) ----------
 // The scalar kernel's Vec3, Ray and RaycastHit (scalar/ray.h), one lane per pixel.
 // Always built whole, never default-constructed and then assigned: GCC
@@ -93,7 +157,7 @@ HWY_INLINE VecF<D> Splat(D d, float value) {
 
 template <class D>
 struct Vec3x {
-  VecF<D> x, y, z;
+  HeldF<D> x, y, z;
 };
 
 template <class D>
@@ -104,51 +168,62 @@ struct RayX {
 
 template <class D>
 struct RaycastHitX {
-  MaskF<D> hit;  // lanes that hit a sphere; the other lanes hold junk
+  HeldM<D> hit;  // lanes that hit a sphere; the other lanes hold junk
   Vec3x<D> position;
   Vec3x<D> normal;
-  VecF<D> distance;
+  HeldF<D> distance;
   Vec3x<D> sphereColor;
 };
+
+// A Vec3x of three vectors, held (the packet types' only constructor).
+template <class D>
+HWY_INLINE Vec3x<D> Vec3Of(D d, VecF<D> x, VecF<D> y, VecF<D> z) {
+  return {Hold(d, x), Hold(d, y), Hold(d, z)};
+}
 
 // ---- Vec3x arithmetic: the same evaluation order as glm's ---------------
 
 template <class D>
 HWY_INLINE Vec3x<D> Broadcast(D d, const glm::vec3& v) {
-  return {Splat(d, v[0]), Splat(d, v[1]), Splat(d, v[2])};
+  return Vec3Of(d, Splat(d, v[0]), Splat(d, v[1]), Splat(d, v[2]));
 }
 template <class D>
-HWY_INLINE Vec3x<D> operator+(const Vec3x<D>& a, const Vec3x<D>& b) {
-  return {a.x + b.x, a.y + b.y, a.z + b.z};
+HWY_INLINE Vec3x<D> Zero3(D d) {
+  return Vec3Of(d, hn::Zero(d), hn::Zero(d), hn::Zero(d));
 }
 template <class D>
-HWY_INLINE Vec3x<D> operator-(const Vec3x<D>& a, const Vec3x<D>& b) {
-  return {a.x - b.x, a.y - b.y, a.z - b.z};
+HWY_INLINE Vec3x<D> Add(D d, const Vec3x<D>& a, const Vec3x<D>& b) {
+  return Vec3Of(d, hn::Add(Get(a.x), Get(b.x)), hn::Add(Get(a.y), Get(b.y)), hn::Add(Get(a.z), Get(b.z)));
 }
 template <class D>
-HWY_INLINE Vec3x<D> operator*(const Vec3x<D>& a, const Vec3x<D>& b) {
-  return {a.x * b.x, a.y * b.y, a.z * b.z};
+HWY_INLINE Vec3x<D> Sub(D d, const Vec3x<D>& a, const Vec3x<D>& b) {
+  return Vec3Of(d, hn::Sub(Get(a.x), Get(b.x)), hn::Sub(Get(a.y), Get(b.y)), hn::Sub(Get(a.z), Get(b.z)));
 }
 template <class D>
-HWY_INLINE Vec3x<D> operator*(VecF<D> s, const Vec3x<D>& v) {
-  return {s * v.x, s * v.y, s * v.z};
+HWY_INLINE Vec3x<D> Mul(D d, const Vec3x<D>& a, const Vec3x<D>& b) {
+  return Vec3Of(d, hn::Mul(Get(a.x), Get(b.x)), hn::Mul(Get(a.y), Get(b.y)), hn::Mul(Get(a.z), Get(b.z)));
 }
 template <class D>
-HWY_INLINE Vec3x<D> operator/(const Vec3x<D>& v, VecF<D> s) {
-  return {v.x / s, v.y / s, v.z / s};
+HWY_INLINE Vec3x<D> Scale(D d, VecF<D> s, const Vec3x<D>& v) {
+  return Vec3Of(d, hn::Mul(s, Get(v.x)), hn::Mul(s, Get(v.y)), hn::Mul(s, Get(v.z)));
+}
+template <class D>
+HWY_INLINE Vec3x<D> Divide(D d, const Vec3x<D>& v, VecF<D> s) {
+  return Vec3Of(d, hn::Div(Get(v.x), s), hn::Div(Get(v.y), s), hn::Div(Get(v.z), s));
 }
 template <class D>
 HWY_INLINE VecF<D> Dot(const Vec3x<D>& a, const Vec3x<D>& b) {
-  return a.x * b.x + a.y * b.y + a.z * b.z;
+  return hn::Add(hn::Add(hn::Mul(Get(a.x), Get(b.x)), hn::Mul(Get(a.y), Get(b.y))), hn::Mul(Get(a.z), Get(b.z)));
 }
 // glm::normalize: v * (1 / sqrt(dot(v, v))).
 template <class D>
 HWY_INLINE Vec3x<D> Normalize(D d, const Vec3x<D>& v) {
-  return (Splat(d, 1.0f) / hn::Sqrt(Dot(v, v))) * v;
+  return Scale(d, hn::Div(Splat(d, 1.0f), hn::Sqrt(Dot(v, v))), v);
 }
 template <class D>
-HWY_INLINE Vec3x<D> Select(MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) {
-  return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z)};
+HWY_INLINE Vec3x<D> Select(D d, MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>& no) {
+  return Vec3Of(d, hn::IfThenElse(m, Get(yes.x), Get(no.x)), hn::IfThenElse(m, Get(yes.y), Get(no.y)),
+                hn::IfThenElse(m, Get(yes.z), Get(no.z)));
 }
 
 // ---- Counters (--counters) ------------------------------------------------
@@ -220,8 +295,8 @@ HWY_INLINE VecF<D> Power(D d, VecF<D> x, float exponent) {
   if (exponent == static_cast<float>(static_cast<int>(std::min(exponent, kMaxWholeExponent)))) {
     VecF<D> result = Splat(d, 1.0f);
     for (auto e = static_cast<unsigned>(exponent); e != 0; e >>= 1) {
-      if (e & 1u) result = result * x;
-      x = x * x;
+      if (e & 1u) result = hn::Mul(result, x);
+      x = hn::Mul(x, x);
     }
     return result;
   }
@@ -237,7 +312,7 @@ HWY_INLINE VecF<D> Power(D d, VecF<D> x, float exponent) {
     return hn::Load(d, lanes);
   } else {
     const VecF<D> positive = hn::Max(x, hn::Set(d, std::numeric_limits<float>::min()));
-    return hn::IfThenElseZero(x > hn::Zero(d), hn::Exp(d, hn::Set(d, exponent) * hn::Log(d, positive)));
+    return hn::IfThenElseZero(hn::Gt(x, hn::Zero(d)), hn::Exp(d, hn::Mul(hn::Set(d, exponent), hn::Log(d, positive))));
   }
 }
 
@@ -249,15 +324,15 @@ HWY_NOINLINE Vec3x<D> LocalColor(D d, const ShadingParams& shading, const Raycas
   const Vec3x<D> l = Broadcast(d, shading.toLight);
   const Vec3x<D> lightColor = Broadcast(d, shading.lightColor);
   const Vec3x<D>& n = hit.normal;
-  const Vec3x<D> minusL = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - l;
-  const Vec3x<D> ambient = Broadcast(d, shading.ambientColor) * hit.sphereColor;
-  const Vec3x<D> diffuse = (hn::Max(Dot(n, l), hn::Zero(d)) * lightColor) * hit.sphereColor;
-  const Vec3x<D> rr = minusL - (Splat(d, 2.0f) * Dot(minusL, n)) * n;  // reflect(-l, n)
-  const Vec3x<D> minusD = Vec3x<D>{hn::Zero(d), hn::Zero(d), hn::Zero(d)} - direction;
+  const Vec3x<D> minusL = Sub(d, Zero3(d), l);
+  const Vec3x<D> ambient = Mul(d, Broadcast(d, shading.ambientColor), hit.sphereColor);
+  const Vec3x<D> diffuse = Mul(d, Scale(d, hn::Max(Dot(n, l), hn::Zero(d)), lightColor), hit.sphereColor);
+  const Vec3x<D> rr = Sub(d, minusL, Scale(d, hn::Mul(Splat(d, 2.0f), Dot(minusL, n)), n));  // reflect(-l, n)
+  const Vec3x<D> minusD = Sub(d, Zero3(d), direction);
   // Clamped to [0, 1] as in the scalar model (docs/render-model.md section 4).
   const VecF<D> cosine = hn::Min(hn::Max(Dot(rr, minusD), hn::Zero(d)), Splat(d, 1.0f));
   const VecF<D> highlight = Power(d, cosine, shading.shininess);
-  return ambient + diffuse + (Splat(d, shading.specularStrength) * highlight) * lightColor;
+  return Add(d, Add(d, ambient, diffuse), Scale(d, hn::Mul(Splat(d, shading.specularStrength), highlight), lightColor));
 }
 
 // The bounce of docs/render-model.md section 5: offset origin, renormalised mirror direction.
@@ -265,8 +340,8 @@ template <class D>
 HWY_INLINE RayX<D> ReflectedRay(D d, const RayX<D>& ray, const RaycastHitX<D>& hit) {
   const Vec3x<D>& dir = ray.direction;
   const Vec3x<D>& n = hit.normal;
-  const Vec3x<D> origin = hit.position + Splat(d, kEpsilon) * n;
-  return {origin, Normalize(d, dir - (Splat(d, 2.0f) * Dot(dir, n)) * n)};
+  const Vec3x<D> origin = Add(d, hit.position, Scale(d, Splat(d, kEpsilon), n));
+  return {origin, Normalize(d, Sub(d, dir, Scale(d, hn::Mul(Splat(d, 2.0f), Dot(dir, n)), n)))};
 }
 
 // ---- The two algorithms (docs/render-model.md section 5) --------------------------------
@@ -277,8 +352,8 @@ HWY_INLINE RayX<D> ReflectedRay(D d, const RayX<D>& ray, const RaycastHitX<D>& h
 template <class D>
 HWY_INLINE void ShadeBounce(D d, const ShadingParams& shading, const RaycastHitX<D>& hit, RayX<D>& ray, Vec3x<D>& color,
                             Vec3x<D>& throughput) {
-  color = Select(hit.hit, color + throughput * LocalColor(d, shading, hit, ray.direction), color);
-  throughput = throughput * (Splat(d, shading.reflectivity) * hit.sphereColor);
+  color = Select(d, Get(hit.hit), Add(d, color, Mul(d, throughput, LocalColor(d, shading, hit, ray.direction))), color);
+  throughput = Mul(d, throughput, Scale(d, Splat(d, shading.reflectivity), hit.sphereColor));
   ray = ReflectedRay(d, ray, hit);
 }
 
@@ -288,16 +363,16 @@ HWY_INLINE void ShadeBounce(D d, const ShadingParams& shading, const RaycastHitX
 template <bool kBounceExit, bool kSphereExit, bool kDiscriminantExit, Search kSearch, bool kCount, class D>
 HWY_INLINE Vec3x<D> TraceSinglePass(D d, const FrameParams& f, RayX<D> ray, MaskF<D> active, Tally<kCount> tally) {
   const Vec3x<D> background = Broadcast(d, f.shading.background);
-  Vec3x<D> color{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
-  Vec3x<D> throughput{Splat(d, 1.0f), Splat(d, 1.0f), Splat(d, 1.0f)};
+  Vec3x<D> color = Zero3(d);
+  Vec3x<D> throughput = Vec3Of(d, Splat(d, 1.0f), Splat(d, 1.0f), Splat(d, 1.0f));
   for (int depth = 0; depth < f.shading.maxDepth; ++depth) {
     tally.Rays(d, depth, active);
     const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kSearch, kCount>(d, f, ray, active, tally);
-    const MaskF<D> missed = hn::AndNot(hit.hit, active);
-    color = Select(missed, color + throughput * background, color);
-    tally.Shading(d, hit.hit);
+    const MaskF<D> missed = hn::AndNot(Get(hit.hit), active);
+    color = Select(d, missed, Add(d, color, Mul(d, throughput, background)), color);
+    tally.Shading(d, Get(hit.hit));
     ShadeBounce(d, f.shading, hit, ray, color, throughput);
-    active = hit.hit;
+    active = Get(hit.hit);
     if constexpr (kBounceExit) {
       if (hn::AllFalse(d, active)) break;
     }
@@ -348,16 +423,16 @@ class PathSegmentStore {
     put3(segment, kDirectionX, s.ray.direction);
     put3(segment, kPositionX, s.hit.position);
     put3(segment, kNormalX, s.hit.normal);
-    hn::Store(s.hit.distance, d_, at(segment, kDistance));
+    hn::Store(Get(s.hit.distance), d_, at(segment, kDistance));
     put3(segment, kColorR, s.hit.sphereColor);
-    hn::Store(hn::VecFromMask(d_, s.hit.hit), d_, at(segment, kHitMask));
+    hn::Store(hn::VecFromMask(d_, Get(s.hit.hit)), d_, at(segment, kHitMask));
   }
   [[nodiscard]] PathSegmentX<D> get(int segment) const {
     return {.ray = {.origin = get3(segment, kOriginX), .direction = get3(segment, kDirectionX)},
-            .hit = {.hit = hn::MaskFromVec(hn::Load(d_, at(segment, kHitMask))),
+            .hit = {.hit = HoldMask(d_, hn::MaskFromVec(hn::Load(d_, at(segment, kHitMask)))),
                     .position = get3(segment, kPositionX),
                     .normal = get3(segment, kNormalX),
-                    .distance = hn::Load(d_, at(segment, kDistance)),
+                    .distance = Hold(d_, hn::Load(d_, at(segment, kDistance))),
                     .sphereColor = get3(segment, kColorR)}};
   }
 
@@ -366,13 +441,13 @@ class PathSegmentStore {
     return base_ + (static_cast<std::size_t>(segment) * kSegmentSlots + slot) * lanes_;
   }
   void put3(int segment, std::size_t first, const Vec3x<D>& v) const {
-    hn::Store(v.x, d_, at(segment, first));
-    hn::Store(v.y, d_, at(segment, first + 1));
-    hn::Store(v.z, d_, at(segment, first + 2));
+    hn::Store(Get(v.x), d_, at(segment, first));
+    hn::Store(Get(v.y), d_, at(segment, first + 1));
+    hn::Store(Get(v.z), d_, at(segment, first + 2));
   }
   Vec3x<D> get3(int segment, std::size_t first) const {
-    return {hn::Load(d_, at(segment, first)), hn::Load(d_, at(segment, first + 1)),
-            hn::Load(d_, at(segment, first + 2))};
+    return Vec3Of(d_, hn::Load(d_, at(segment, first)), hn::Load(d_, at(segment, first + 1)),
+                  hn::Load(d_, at(segment, first + 2)));
   }
 
   D d_;
@@ -384,9 +459,9 @@ class PathSegmentStore {
 // (`acc`) seen through it, or the background where the lane missed.
 template <class D>
 HWY_INLINE Vec3x<D> FoldSegment(D d, const ShadingParams& shading, const Vec3x<D>& acc, const PathSegmentX<D>& s) {
-  const Vec3x<D> lit =
-      (Splat(d, shading.reflectivity) * acc) * s.hit.sphereColor + LocalColor(d, shading, s.hit, s.ray.direction);
-  return Select(s.hit.hit, lit, Broadcast(d, shading.background));
+  const Vec3x<D> lit = Add(d, Mul(d, Scale(d, Splat(d, shading.reflectivity), acc), s.hit.sphereColor),
+                           LocalColor(d, shading, s.hit, s.ray.direction));
+  return Select(d, Get(s.hit.hit), lit, Broadcast(d, shading.background));
 }
 
 // Two-pass (the thesis' original): the forward pass stores every segment,
@@ -402,15 +477,15 @@ HWY_INLINE Vec3x<D> TraceTwoPass(D d, const FrameParams& f, RayX<D> ray, MaskF<D
     const RaycastHitX<D> hit = NearestHit<kSphereExit, kDiscriminantExit, kSearch, kCount>(d, f, ray, active, tally);
     store.put(count++, {ray, hit});
     ray = ReflectedRay(d, ray, hit);
-    active = hit.hit;
+    active = Get(hit.hit);
     if constexpr (kBounceExit) {
       if (hn::AllFalse(d, active)) break;
     }
   }
-  Vec3x<D> acc{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+  Vec3x<D> acc = Zero3(d);
   for (int i = count - 1; i >= 0; --i) {
     const PathSegmentX<D> segment = store.get(i);
-    tally.Shading(d, segment.hit.hit);
+    tally.Shading(d, Get(segment.hit.hit));
     acc = FoldSegment(d, f.shading, acc, segment);
   }
   return acc;
@@ -429,9 +504,12 @@ HWY_NOINLINE RayX<D> PrimaryRayOfFloats(D d, const FrameParams& f, int x, float 
   const float h = static_cast<float>(f.extent.height);
   const VecF<D> px = hn::Iota(d, static_cast<float>(x));
   const CameraFrame& c = f.camera;
-  const VecF<D> u = ((Splat(d, 2.0f) * (px + Splat(d, 0.5f)) / Splat(d, w) - Splat(d, 1.0f)) * Splat(d, c.tanHalfFov)) *
-                    Splat(d, w / h);
-  const Vec3x<D> dir = (Broadcast(d, c.forward) + u * Broadcast(d, c.right)) + Splat(d, v) * Broadcast(d, c.up);
+  const VecF<D> u = hn::Mul(
+      hn::Mul(hn::Sub(hn::Div(hn::Mul(Splat(d, 2.0f), hn::Add(px, Splat(d, 0.5f))), Splat(d, w)), Splat(d, 1.0f)),
+              Splat(d, c.tanHalfFov)),
+      Splat(d, w / h));
+  const Vec3x<D> dir = Add(d, Add(d, Broadcast(d, c.forward), Scale(d, u, Broadcast(d, c.right))),
+                           Scale(d, Splat(d, v), Broadcast(d, c.up)));
   return {Broadcast(d, c.position), Normalize(d, dir)};
 }
 
@@ -443,11 +521,11 @@ HWY_NOINLINE void ToRgba8OfFloats(D d, const Vec3x<D>& color, Rgba8* out, std::s
   HWY_ALIGN hn::TFromD<decltype(di)> channel[3][kMax];
   const auto quantize = [&](VecF<D> c) {
     const VecF<D> clamped = hn::Min(hn::Max(c, hn::Zero(d)), Splat(d, 1.0f));
-    return hn::ConvertTo(di, clamped * Splat(d, 255.0f) + Splat(d, 0.5f));
+    return hn::ConvertTo(di, hn::Add(hn::Mul(clamped, Splat(d, 255.0f)), Splat(d, 0.5f)));
   };
-  hn::Store(quantize(color.x), di, channel[0]);
-  hn::Store(quantize(color.y), di, channel[1]);
-  hn::Store(quantize(color.z), di, channel[2]);
+  hn::Store(quantize(Get(color.x)), di, channel[0]);
+  hn::Store(quantize(Get(color.y)), di, channel[1]);
+  hn::Store(quantize(Get(color.z)), di, channel[2]);
   for (std::size_t i = 0; i < n; ++i) {
     out[i] = Rgba8{static_cast<std::uint8_t>(channel[0][i]), static_cast<std::uint8_t>(channel[1][i]),
                    static_cast<std::uint8_t>(channel[2][i]), 255};
@@ -465,7 +543,7 @@ HWY_NOINLINE RayX<D> PrimaryRayOfHalves(D d, const FrameParams& f, int x, int y)
     const glm::vec3 dir = primaryRayDirection<float>(f.camera, f.extent, x + static_cast<int>(i), y);
     for (int k = 0; k < 3; ++k) direction[k][i] = LaneValue<LaneT<D>>(dir[k]);
   }
-  const Vec3x<D> dir{hn::Load(d, direction[0]), hn::Load(d, direction[1]), hn::Load(d, direction[2])};
+  const Vec3x<D> dir = Vec3Of(d, hn::Load(d, direction[0]), hn::Load(d, direction[1]), hn::Load(d, direction[2]));
   return {Broadcast(d, f.camera.position), Normalize(d, dir)};
 }
 
@@ -474,9 +552,9 @@ HWY_NOINLINE RayX<D> PrimaryRayOfHalves(D d, const FrameParams& f, int x, int y)
 template <class D>
 HWY_NOINLINE void ToRgba8OfHalves(D d, const Vec3x<D>& color, Rgba8* out, std::size_t n) {
   HWY_ALIGN LaneT<D> channel[3][hn::MaxLanes(D())];
-  hn::Store(color.x, d, channel[0]);
-  hn::Store(color.y, d, channel[1]);
-  hn::Store(color.z, d, channel[2]);
+  hn::Store(Get(color.x), d, channel[0]);
+  hn::Store(Get(color.y), d, channel[1]);
+  hn::Store(Get(color.z), d, channel[2]);
   for (std::size_t i = 0; i < n; ++i) {
     const auto widen = [&](int k) { return static_cast<float>(channel[k][i]); };
     out[i] = kernel::toRgba8(glm::vec3(widen(0), widen(1), widen(2)));
@@ -574,7 +652,7 @@ std::array<LaneKernels, sizeof...(kIndex)> AllCappedKernels(std::index_sequence<
 // One lane type's kernels: the native width and each of the schema's lane widths.
 template <unsigned kFirst, class T>
 LaneSet LaneSetOf() {
-  const hn::ScalableTag<T> d;
+  const NativeTag<T> d;
   LaneSet set;
   set.nativeLanes = static_cast<int>(hn::Lanes(d));
   set.native = MakeLaneKernels<kFirst>(d, std::make_integer_sequence<unsigned, kVariantsOf<T>>());

@@ -34,7 +34,7 @@ std::string halfPrecisionRefusal(const std::string& target) {
          target + " has no native f16 arithmetic (Highway " + simd::highwayVersion() +
          "). An f16 kernel is compiled for the targets that have it from Highway 1.2 on: AVX3_SPR (AVX512-FP16, "
          "Intel Xeon from Sapphire Rapids on, with GCC), NEON_BF16 (Arm CPUs with BF16), and NEON where the build "
-         "enables the ARMv8.2-A FP16 extension (SVE has it too, but the packet kernel runs NEON on SVE machines). "
+         "enables the ARMv8.2-A FP16 extension, SVE and SVE2. "
          "--gpu --precision f16 runs the experiment where the Vulkan device offers shaderFloat16";
 }
 

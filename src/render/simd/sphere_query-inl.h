@@ -21,32 +21,33 @@ HWY_INLINE void IntersectSphere(D d, LaneT<D> centerX, LaneT<D> centerY, LaneT<D
                                 LaneT<D> index, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
                                 VecF<D>& bestIndex) {
   const VecF<D> eps = Splat(d, kEpsilon);
-  const Vec3x<D>& o = ray.origin;
-  const Vec3x<D>& dir = ray.direction;
-  const VecF<D> ocx = o.x - hn::Set(d, centerX);
-  const VecF<D> ocy = o.y - hn::Set(d, centerY);
-  const VecF<D> ocz = o.z - hn::Set(d, centerZ);
-  const VecF<D> b = hn::MulAdd(ocz, dir.z, hn::MulAdd(ocy, dir.y, ocx * dir.x));
+  const VecF<D> dx = Get(ray.direction.x);
+  const VecF<D> dy = Get(ray.direction.y);
+  const VecF<D> dz = Get(ray.direction.z);
+  const VecF<D> ocx = hn::Sub(Get(ray.origin.x), hn::Set(d, centerX));
+  const VecF<D> ocy = hn::Sub(Get(ray.origin.y), hn::Set(d, centerY));
+  const VecF<D> ocz = hn::Sub(Get(ray.origin.z), hn::Set(d, centerZ));
+  const VecF<D> b = hn::MulAdd(ocz, dz, hn::MulAdd(ocy, dy, hn::Mul(ocx, dx)));
   // f = oc - b d: centre to the point of closest approach; disc = r^2 - |f|^2.
-  const VecF<D> fx = hn::NegMulAdd(b, dir.x, ocx);
-  const VecF<D> fy = hn::NegMulAdd(b, dir.y, ocy);
-  const VecF<D> fz = hn::NegMulAdd(b, dir.z, ocz);
-  const VecF<D> disc = hn::Set(d, radiusSquared) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
-  const MaskF<D> real = hn::And(active, disc >= hn::Zero(d));
+  const VecF<D> fx = hn::NegMulAdd(b, dx, ocx);
+  const VecF<D> fy = hn::NegMulAdd(b, dy, ocy);
+  const VecF<D> fz = hn::NegMulAdd(b, dz, ocz);
+  const VecF<D> disc = hn::Sub(hn::Set(d, radiusSquared), hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, hn::Mul(fx, fx))));
+  const MaskF<D> real = hn::And(active, hn::Ge(disc, hn::Zero(d)));
   if constexpr (kDiscriminantExit) {
     if (hn::AllFalse(d, real)) return;  // before the sqrt and all that follows
   }
   const VecF<D> h = hn::Sqrt(disc);  // NaN where disc < 0; those lanes are not `real`
-  const VecF<D> minusB = hn::Zero(d) - b;
-  const VecF<D> near = minusB - h;
-  const VecF<D> t = hn::IfThenElse(near <= eps, minusB + h, near);
-  const MaskF<D> hit = hn::And(real, t > eps);
+  const VecF<D> minusB = hn::Sub(hn::Zero(d), b);
+  const VecF<D> near = hn::Sub(minusB, h);
+  const VecF<D> t = hn::IfThenElse(hn::Le(near, eps), hn::Add(minusB, h), near);
+  const MaskF<D> hit = hn::And(real, hn::Gt(t, eps));
   if constexpr (kSphereExit) {
     if (hn::AllFalse(d, hit)) return;  // no lane hits: skip the bookkeeping
   }
   const VecF<D> lanesIndex = hn::Set(d, index);
-  MaskF<D> better = t < bestT;
-  if constexpr (kTieByIndex) better = hn::Or(better, hn::And(t == bestT, lanesIndex < bestIndex));
+  MaskF<D> better = hn::Lt(t, bestT);
+  if constexpr (kTieByIndex) better = hn::Or(better, hn::And(hn::Eq(t, bestT), hn::Lt(lanesIndex, bestIndex)));
   const MaskF<D> closer = hn::And(hit, better);
   bestT = hn::IfThenElse(closer, t, bestT);
   bestIndex = hn::IfThenElse(closer, lanesIndex, bestIndex);
@@ -91,7 +92,7 @@ HWY_INLINE VecF<D> GatherLanes(D d, const LaneT<D>* base, hn::Vec<hn::RebindToSi
 template <class D>
 HWY_INLINE Vec3x<D> Gather3(D d, const LaneT<D>* x, const LaneT<D>* y, const LaneT<D>* z,
                             hn::Vec<hn::RebindToSigned<D>> i) {
-  return {GatherLanes(d, x, i), GatherLanes(d, y, i), GatherLanes(d, z, i)};
+  return Vec3Of(d, GatherLanes(d, x, i), GatherLanes(d, y, i), GatherLanes(d, z, i));
 }
 
 // The hit records of the lanes' best spheres (index -1: a miss). Where the
@@ -100,19 +101,19 @@ HWY_INLINE Vec3x<D> Gather3(D d, const LaneT<D>* x, const LaneT<D>* y, const Lan
 template <class D>
 HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereData<LaneT<D>>& s, const RayX<D>& ray, VecF<D> bestT,
                                     VecF<D> bestIndex) {
-  const MaskF<D> hit = bestIndex >= hn::Zero(d);
+  const MaskF<D> hit = hn::Ge(bestIndex, hn::Zero(d));
   // Missed lanes read sphere 0 at distance 0: junk, but finite junk.
   const hn::RebindToSigned<D> di;
   const auto index = hn::ConvertTo(di, hn::Max(bestIndex, hn::Zero(d)));
   const VecF<D> distance = hn::IfThenElseZero(hit, bestT);
-  const Vec3x<D> position = ray.origin + distance * ray.direction;
+  const Vec3x<D> position = Add(d, ray.origin, Scale(d, distance, ray.direction));
   const Vec3x<D> center = Gather3(d, s.centerX, s.centerY, s.centerZ, index);
-  const Vec3x<D> outward = (position - center) / GatherLanes(d, s.radius, index);
-  const MaskF<D> leaving = Dot(ray.direction, outward) > hn::Zero(d);
-  return {.hit = hit,
+  const Vec3x<D> outward = Divide(d, Sub(d, position, center), GatherLanes(d, s.radius, index));
+  const MaskF<D> leaving = hn::Gt(Dot(ray.direction, outward), hn::Zero(d));
+  return {.hit = HoldMask(d, hit),
           .position = position,
-          .normal = Select(leaving, Splat(d, -1.0f) * outward, outward),
-          .distance = distance,
+          .normal = Select(d, leaving, Scale(d, Splat(d, -1.0f), outward), outward),
+          .distance = Hold(d, distance),
           .sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index)};
 }
 
@@ -140,19 +141,19 @@ template <class D>
 HWY_INLINE MaskF<D> BoxReachable(D d, const float lo[3], const float hi[3], const RayX<D>& ray, const Vec3x<D>& inverse,
                                  VecF<D> pad, VecF<D> bestT, MaskF<D> active, VecF<D>& entry) {
   const auto slab = [&](float l, float h, VecF<D> o, VecF<D> inv, VecF<D>& near, VecF<D>& far) {
-    const VecF<D> t0 = (hn::Set(d, l) - pad - o) * inv;
-    const VecF<D> t1 = (hn::Set(d, h) + pad - o) * inv;
+    const VecF<D> t0 = hn::Mul(hn::Sub(hn::Sub(hn::Set(d, l), pad), o), inv);
+    const VecF<D> t1 = hn::Mul(hn::Sub(hn::Add(hn::Set(d, h), pad), o), inv);
     near = hn::Min(t0, t1);
     far = hn::Max(t0, t1);
   };
   VecF<D> nx, fx, ny, fy, nz, fz;
-  slab(lo[0], hi[0], ray.origin.x, inverse.x, nx, fx);
-  slab(lo[1], hi[1], ray.origin.y, inverse.y, ny, fy);
-  slab(lo[2], hi[2], ray.origin.z, inverse.z, nz, fz);
+  slab(lo[0], hi[0], Get(ray.origin.x), Get(inverse.x), nx, fx);
+  slab(lo[1], hi[1], Get(ray.origin.y), Get(inverse.y), ny, fy);
+  slab(lo[2], hi[2], Get(ray.origin.z), Get(inverse.z), nz, fz);
   entry = hn::Max(nx, hn::Max(ny, nz));
   const VecF<D> exit = hn::Min(fx, hn::Min(fy, fz));
-  const MaskF<D> crosses = hn::And(entry <= exit, exit >= hn::Zero(d) - pad);
-  return hn::And(active, hn::And(crosses, entry <= bestT + pad));
+  const MaskF<D> crosses = hn::And(hn::Le(entry, exit), hn::Ge(exit, hn::Sub(hn::Zero(d), pad)));
+  return hn::And(active, hn::And(crosses, hn::Le(entry, hn::Add(bestT, pad))));
 }
 
 template <class D>
@@ -168,19 +169,21 @@ HWY_INLINE MaskF<D> BoxReachable(D d, const BvhNode& node, const RayX<D>& ray, c
 template <class D>
 HWY_INLINE Vec3x<D> InverseDirection(D d, const Vec3x<D>& dir) {
   const VecF<D> tiny = hn::Set(d, 1e-30f);
-  const auto safe = [&](VecF<D> c) { return hn::IfThenElse(hn::Abs(c) < tiny, hn::CopySign(tiny, c), c); };
+  const auto safe = [&](VecF<D> c) { return hn::IfThenElse(hn::Lt(hn::Abs(c), tiny), hn::CopySign(tiny, c), c); };
   const VecF<D> one = hn::Set(d, 1.0f);
-  return {one / safe(dir.x), one / safe(dir.y), one / safe(dir.z)};
+  return Vec3Of(d, hn::Div(one, safe(Get(dir.x))), hn::Div(one, safe(Get(dir.y))), hn::Div(one, safe(Get(dir.z))));
 }
 
 // traversalPad() (render/accel/bvh.h) per lane.
 template <class D>
 HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
   const VecF<D> scale =
-      hn::Max(hn::Abs(origin.x), hn::Max(hn::Abs(origin.y), hn::Abs(origin.z))) + hn::Set(d, bvh.maxCoordinate);
-  return hn::Set(d, float(RT_BVH_PAD_SCALE)) * scale +
-         hn::Set(d, float(RT_BVH_PAD_TANGENT)) * hn::Sqrt(hn::Set(d, bvh.maxRadius) * scale) +
-         hn::Set(d, float(RT_BVH_PAD_RADIUS) * bvh.maxRadius + float(RT_BVH_PAD_MIN));
+      hn::Add(hn::Max(hn::Abs(Get(origin.x)), hn::Max(hn::Abs(Get(origin.y)), hn::Abs(Get(origin.z)))),
+              hn::Set(d, bvh.maxCoordinate));
+  return hn::Add(
+      hn::Add(hn::Mul(hn::Set(d, float(RT_BVH_PAD_SCALE)), scale),
+              hn::Mul(hn::Set(d, float(RT_BVH_PAD_TANGENT)), hn::Sqrt(hn::Mul(hn::Set(d, bvh.maxRadius), scale)))),
+      hn::Set(d, float(RT_BVH_PAD_RADIUS) * bvh.maxRadius + float(RT_BVH_PAD_MIN)));
 }
 
 // With a BVH: the packet walks the tree together, visiting a node while
@@ -197,7 +200,8 @@ HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX
   const Vec3x<D> inverse = InverseDirection(d, ray.direction);
   const VecF<D> pad = TraversalPad(d, bvh, ray.origin);
   const auto activeSum = [&](VecF<D> c) { return hn::GetLane(hn::SumOfLanes(d, hn::IfThenElseZero(active, c))); };
-  const float direction[3] = {activeSum(ray.direction.x), activeSum(ray.direction.y), activeSum(ray.direction.z)};
+  const float direction[3] = {activeSum(Get(ray.direction.x)), activeSum(Get(ray.direction.y)),
+                              activeSum(Get(ray.direction.z))};
   std::uint32_t stack[kBvhMaxDepth + 2];
   int top = 0;
   stack[top++] = 0;

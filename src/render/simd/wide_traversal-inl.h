@@ -23,13 +23,13 @@ struct SingleRayX {
   // Highway 1.0 on NEON (whose target adds +crypto) it cannot inline the
   // vectors' always-inline constructors and the build fails.
   HWY_INLINE SingleRayX() {}
-  VecF<WideTag> origin[3];
-  VecF<WideTag> direction[3];
-  VecF<WideTag> inverse[3];
+  HeldF<WideTag> origin[3];
+  HeldF<WideTag> direction[3];
+  HeldF<WideTag> inverse[3];
   // The origin moved by the pad away from the near (far) plane, times the
   // inverse direction: a plane at p is entered at p inverse - shift.
-  VecF<WideTag> nearShift[3];
-  VecF<WideTag> farShift[3];
+  HeldF<WideTag> nearShift[3];
+  HeldF<WideTag> farShift[3];
   int nearPlane[3];
   int farPlane[3];
   float pad;
@@ -48,9 +48,9 @@ template <class D>
 HWY_INLINE void StoreLanes(D d, const RayX<D>& ray, const Vec3x<D>& inverse, VecF<D> pad, PacketLanes& out) {
   static_assert(hn::MaxLanes(D()) <= PacketLanes::kMaxLanes);
   const auto put = [&](const Vec3x<D>& v, float(*to)[PacketLanes::kMaxLanes]) {
-    hn::Store(v.x, d, to[0]);
-    hn::Store(v.y, d, to[1]);
-    hn::Store(v.z, d, to[2]);
+    hn::Store(Get(v.x), d, to[0]);
+    hn::Store(Get(v.y), d, to[1]);
+    hn::Store(Get(v.z), d, to[2]);
   };
   put(ray.origin, out.origin);
   put(ray.direction, out.direction);
@@ -66,14 +66,14 @@ HWY_INLINE SingleRayX SingleRayOf(const PacketLanes& lanes, std::size_t lane) {
     const float o = lanes.origin[a][lane];
     const float inv = lanes.inverse[a][lane];
     const bool up = !(inv < 0.0f);
-    r.origin[a] = hn::Set(dw, o);
-    r.direction[a] = hn::Set(dw, lanes.direction[a][lane]);
-    r.inverse[a] = hn::Set(dw, inv);
+    r.origin[a] = Hold(dw, hn::Set(dw, o));
+    r.direction[a] = Hold(dw, hn::Set(dw, lanes.direction[a][lane]));
+    r.inverse[a] = Hold(dw, hn::Set(dw, inv));
     // (lo - pad - o) inv = lo inv - (o + pad) inv up the axis; down it, hi + pad is met first.
     // The fused form rounds differently from the packet's (lo - pad - o) inv by
     // about 1e-7 of (|o| + |lo|) |inv|, far inside the pad's 1e-5 of that scale.
-    r.nearShift[a] = hn::Set(dw, (up ? o + r.pad : o - r.pad) * inv);
-    r.farShift[a] = hn::Set(dw, (up ? o - r.pad : o + r.pad) * inv);
+    r.nearShift[a] = Hold(dw, hn::Set(dw, (up ? o + r.pad : o - r.pad) * inv));
+    r.farShift[a] = Hold(dw, hn::Set(dw, (up ? o - r.pad : o + r.pad) * inv));
     r.nearPlane[a] = up ? WideBvhNode::kLoX + a : WideBvhNode::kHiX + a;
     r.farPlane[a] = up ? WideBvhNode::kHiX + a : WideBvhNode::kLoX + a;
   }
@@ -90,8 +90,9 @@ HWY_INLINE std::uint32_t WideNodeHits(const WideBvhNode& node, const SingleRayX&
   const VecF<WideTag> highest = hn::Set(dw, bestT + r.pad);
   std::uint32_t bits = 0;
   for (std::size_t c = 0; c < WideBvhNode::kWidth; c += n) {
-    const auto plane = [&](int p, int a, const VecF<WideTag>* shift) {
-      return hn::MulSub(hn::Load(dw, node.bounds[static_cast<std::size_t>(p)].data() + c), r.inverse[a], shift[a]);
+    const auto plane = [&](int p, int a, const HeldF<WideTag>* shift) {
+      return hn::MulSub(hn::Load(dw, node.bounds[static_cast<std::size_t>(p)].data() + c), Get(r.inverse[a]),
+                        Get(shift[a]));
     };
     const VecF<WideTag> enter =
         hn::Max(hn::Max(plane(r.nearPlane[0], 0, r.nearShift), plane(r.nearPlane[1], 1, r.nearShift)),
@@ -100,7 +101,7 @@ HWY_INLINE std::uint32_t WideNodeHits(const WideBvhNode& node, const SingleRayX&
         hn::Min(hn::Min(plane(r.farPlane[0], 0, r.farShift), plane(r.farPlane[1], 1, r.farShift)),
                 hn::Min(plane(r.farPlane[2], 2, r.farShift), highest));
     hn::Store(enter, dw, entry + c);
-    bits |= LaneBits(dw, enter <= leave) << c;
+    bits |= LaneBits(dw, hn::Le(enter, leave)) << c;
   }
   return bits;
 }
@@ -115,25 +116,27 @@ HWY_INLINE void LeafNearest(const WideBvh& w, WideChild leaf, const SingleRayX& 
   const VecF<WideTag> eps = hn::Set(dw, kEpsilon);
   const LeafBlock& block = w.leaves[leaf.block()];
   const std::size_t count = leaf.count();
+  const VecF<WideTag> ox = Get(r.origin[0]), oy = Get(r.origin[1]), oz = Get(r.origin[2]);
+  const VecF<WideTag> dx = Get(r.direction[0]), dy = Get(r.direction[1]), dz = Get(r.direction[2]);
   for (std::size_t c = 0; c < count; c += n) {
     if constexpr (kCount) tally.Spheres(1, n, std::min(n, count - c));
     // intersectSphere, lane for lane as IntersectSphere computes it with the spheres' values broadcast.
-    const VecF<WideTag> ocx = r.origin[0] - hn::Load(dw, block.centerX.data() + c);
-    const VecF<WideTag> ocy = r.origin[1] - hn::Load(dw, block.centerY.data() + c);
-    const VecF<WideTag> ocz = r.origin[2] - hn::Load(dw, block.centerZ.data() + c);
-    const VecF<WideTag> b = hn::MulAdd(ocz, r.direction[2], hn::MulAdd(ocy, r.direction[1], ocx * r.direction[0]));
-    const VecF<WideTag> fx = hn::NegMulAdd(b, r.direction[0], ocx);
-    const VecF<WideTag> fy = hn::NegMulAdd(b, r.direction[1], ocy);
-    const VecF<WideTag> fz = hn::NegMulAdd(b, r.direction[2], ocz);
+    const VecF<WideTag> ocx = hn::Sub(ox, hn::Load(dw, block.centerX.data() + c));
+    const VecF<WideTag> ocy = hn::Sub(oy, hn::Load(dw, block.centerY.data() + c));
+    const VecF<WideTag> ocz = hn::Sub(oz, hn::Load(dw, block.centerZ.data() + c));
+    const VecF<WideTag> b = hn::MulAdd(ocz, dz, hn::MulAdd(ocy, dy, hn::Mul(ocx, dx)));
+    const VecF<WideTag> fx = hn::NegMulAdd(b, dx, ocx);
+    const VecF<WideTag> fy = hn::NegMulAdd(b, dy, ocy);
+    const VecF<WideTag> fz = hn::NegMulAdd(b, dz, ocz);
     const VecF<WideTag> disc =
-        hn::Load(dw, block.radiusSquared.data() + c) - hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, fx * fx));
-    const MaskF<WideTag> real = disc >= hn::Zero(dw);  // never in unused slots (radius squared -1)
+        hn::Sub(hn::Load(dw, block.radiusSquared.data() + c), hn::MulAdd(fz, fz, hn::MulAdd(fy, fy, hn::Mul(fx, fx))));
+    const MaskF<WideTag> real = hn::Ge(disc, hn::Zero(dw));  // never in unused slots (radius squared -1)
     if (hn::AllFalse(dw, real)) continue;
     const VecF<WideTag> h = hn::Sqrt(disc);
-    const VecF<WideTag> minusB = hn::Zero(dw) - b;
-    const VecF<WideTag> near = minusB - h;
-    const VecF<WideTag> t = hn::IfThenElse(near <= eps, minusB + h, near);
-    std::uint32_t hits = LaneBits(dw, hn::And(real, t > eps));
+    const VecF<WideTag> minusB = hn::Sub(hn::Zero(dw), b);
+    const VecF<WideTag> near = hn::Sub(minusB, h);
+    const VecF<WideTag> t = hn::IfThenElse(hn::Le(near, eps), hn::Add(minusB, h), near);
+    std::uint32_t hits = LaneBits(dw, hn::And(real, hn::Gt(t, eps)));
     if (hits == 0) continue;
     HWY_ALIGN float ts[WideBvhNode::kWidth];
     hn::Store(t, dw, ts);

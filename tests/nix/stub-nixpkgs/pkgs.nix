@@ -20,7 +20,7 @@ let
 
   gcc14Stdenv = { mkDerivation = mkDerivation; };
 
-  pythonPackageNames = [ "pandas" "numpy" "matplotlib" "scipy" "rich" "pytest" ];
+  pythonPackageNames = [ "pandas" "numpy" "matplotlib" "scipy" "rich" "pytest" "pytest-xdist" ];
   pythonPackages = lib.genAttrs pythonPackageNames (name: package "python3.13-${name}");
 in
 lib.genAttrs [
