@@ -111,19 +111,19 @@ def x86_images(raytracer, repo_root, tmp_path_factory) -> dict[str, bytes]:
     return {name: render([raytracer], scene, out / name, args).read_bytes() for name, args in CONFIGS.items()}
 
 
+def emulated_image(aarch64_raytracer, repo_root, tmp_path, config: str, cpu: str) -> bytes:
+    """The PNG of configuration `config` from the aarch64 build on emulated CPU `cpu`."""
+    scene = repo_root / "scenes/random20.json"
+    png = render(["qemu-aarch64", aarch64_raytracer], scene, tmp_path / config, CONFIGS[config], emulated_env(cpu))
+    return png.read_bytes()
+
+
 @pytest.mark.parametrize("cpu", CPUS)
 @pytest.mark.parametrize("config", CONFIGS)
 def test_every_renderer_draws_the_x86_image_byte_for_byte(
     aarch64_raytracer, repo_root, tmp_path, x86_images, cpu, config
 ):
-    png = render(
-        ["qemu-aarch64", aarch64_raytracer],
-        repo_root / "scenes/random20.json",
-        tmp_path / config,
-        CONFIGS[config],
-        emulated_env(cpu),
-    )
-    assert png.read_bytes() == x86_images[config]
+    assert emulated_image(aarch64_raytracer, repo_root, tmp_path, config, cpu) == x86_images[config]
 
 
 SIMD_CONFIGS = [name for name in CONFIGS if name.startswith("simd_")]
@@ -135,14 +135,7 @@ def test_sve_at_each_vector_length_draws_the_x86_image_byte_for_byte(
     aarch64_raytracer, repo_root, tmp_path, x86_images, bits, config
 ):
     """512 bits is `max` above; the other configurations do not run SVE."""
-    png = render(
-        ["qemu-aarch64", aarch64_raytracer],
-        repo_root / "scenes/random20.json",
-        tmp_path / config,
-        CONFIGS[config],
-        emulated_env(SVE_CPUS[bits]),
-    )
-    assert png.read_bytes() == x86_images[config]
+    assert emulated_image(aarch64_raytracer, repo_root, tmp_path, config, SVE_CPUS[bits]) == x86_images[config]
 
 
 @pytest.mark.parametrize("bits", sorted(SVE_CPUS))
