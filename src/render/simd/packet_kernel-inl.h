@@ -107,7 +107,7 @@ struct HeldF {
 };
 template <class D>
 struct HeldM {
-  std::uint8_t bits[8];  // StoreMaskBits' layout; at most kMaxPacketLanes lanes
+  std::uint8_t bits[8];  // StoreMaskBits' layout (it may write 8 bytes, whatever the lane count)
 };
 template <class D>
 HWY_INLINE HeldF<D> Hold(D d, VecF<D> v) {
@@ -231,7 +231,7 @@ HWY_INLINE Vec3x<D> Select(D d, MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>&
 // Lanes of a mask as bits, lane 0 lowest (packets have at most 16 lanes).
 template <class D>
 HWY_INLINE std::uint32_t LaneBits(D d, MaskF<D> m) {
-  static_assert(hn::MaxLanes(D()) <= 32, "lane masks are kept in 32 bits");
+  static_assert(hn::MaxLanes(D()) <= kMaxPacketLanes, "lane masks are kept in 32 bits");
   std::uint8_t bytes[8] = {};
   hn::StoreMaskBits(d, m, bytes);
   return std::uint32_t{bytes[0]} | std::uint32_t{bytes[1]} << 8 | std::uint32_t{bytes[2]} << 16 |

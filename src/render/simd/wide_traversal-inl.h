@@ -37,7 +37,7 @@ struct SingleRayX {
 
 // Lane `lane` of a packet's ray, inverse direction and pad, as stored by StoreLanes.
 struct PacketLanes {
-  static constexpr std::size_t kMaxLanes = 32;
+  static constexpr std::size_t kMaxLanes = kMaxPacketLanes;
   HWY_ALIGN float origin[3][kMaxLanes];
   HWY_ALIGN float direction[3][kMaxLanes];
   HWY_ALIGN float inverse[3][kMaxLanes];
