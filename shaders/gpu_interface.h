@@ -55,6 +55,8 @@
 #define RT_SPEC_STAGE 9
 // --counters.
 #define RT_SPEC_COUNTERS 10
+// The binary walk's stack, from the tree's depth.
+#define RT_SPEC_BVH_STACK_SIZE 11
 
 #define RT_STAGE_MEGAKERNEL 0
 #define RT_STAGE_WAVEFRONT_DEPTH 1

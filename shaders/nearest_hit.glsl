@@ -169,12 +169,14 @@ bool leafTestedOrReachable(bool reach, uint child, uint count, Ray ray) {
 // Laine's layout), tests the leaves among them at once, goes on to the
 // nearer inner child reached and pushes the other with its entry distance;
 // a pop skips an entry the ray can no longer reach nearer than its best hit
-// (+ pad). One push per level: the tree's depth + 1 entries suffice.
+// (+ pad). One push per level: the tree's depth + 1 entries suffice
+// (BVH_STACK_SIZE). An entry is the node and its entry distance's bits
+// side by side, so that a push or a pop is one 8-byte access of the
+// invocation's local memory rather than two of 4 bytes.
 RaycastHit nearestHitInBvh(Ray ray) {
   vec3 inverse = inverseDirection(toFloat3(ray.direction));
   float pad = traversalPad(toFloat3(ray.origin));
-  uint stackNode[RT_BVH_MAX_DEPTH + 2];
-  float stackEntry[RT_BVH_MAX_DEPTH + 2];
+  uvec2 stack[BVH_STACK_SIZE];  // node, floatBitsToUint(entry)
   int top = 0;
   uint node = 0u;  // the root
   while (true) {
@@ -188,8 +190,7 @@ RaycastHit nearestHitInBvh(Ray ray) {
     reach1 = leafTestedOrReachable(reach1, lo1.w, hi1.w, ray);
     if (reach0 && reach1) {
       bool nearFirst = entry0 <= entry1;
-      stackNode[top] = nearFirst ? lo1.w : lo0.w;
-      stackEntry[top] = nearFirst ? entry1 : entry0;
+      stack[top] = uvec2(nearFirst ? lo1.w : lo0.w, floatBitsToUint(nearFirst ? entry1 : entry0));
       ++top;
       node = nearFirst ? lo0.w : lo1.w;
       continue;
@@ -201,8 +202,8 @@ RaycastHit nearestHitInBvh(Ray ray) {
     bool popped = false;
     while (top > 0 && !popped) {
       --top;
-      popped = stackEntry[top] <= searchBest + pad;
-      node = stackNode[top];
+      popped = uintBitsToFloat(stack[top].y) <= searchBest + pad;
+      node = stack[top].x;
     }
     if (!popped) break;
   }

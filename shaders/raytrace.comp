@@ -34,6 +34,8 @@ layout(constant_id = RT_SPEC_MAX_DEPTH) const int MAX_DEPTH = 5;
 // --accel bvh: walk the hierarchy instead of testing every sphere. Off, the
 // traversal is compiled out and brute force runs exactly as without it.
 layout(constant_id = RT_SPEC_USE_BVH) const bool USE_BVH = false;
+// The binary walk's stack size, from the tree's depth (nearestHitInBvh()).
+layout(constant_id = RT_SPEC_BVH_STACK_SIZE) const int BVH_STACK_SIZE = RT_BVH_MAX_DEPTH + 2;
 // rt::Bvh::maxRadius and maxCoordinate, which size the traversal pad.
 layout(constant_id = RT_SPEC_BVH_MAX_RADIUS) const float BVH_MAX_RADIUS = 0.0;
 layout(constant_id = RT_SPEC_BVH_MAX_COORDINATE) const float BVH_MAX_COORDINATE = 0.0;

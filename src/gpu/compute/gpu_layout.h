@@ -114,8 +114,13 @@ struct SpecializationConstants {
   std::int32_t wideStackSize = 1;  // entries the wide walk's stack needs
   std::uint32_t persistent = 0;    // VkBool32: --gpu-schedule persistent
   std::int32_t stage = RT_STAGE_MEGAKERNEL;
-  std::uint32_t counters = 0;  // VkBool32: --counters
+  std::uint32_t counters = 0;                        // VkBool32: --counters
+  std::int32_t bvhStackSize = RT_BVH_MAX_DEPTH + 2;  // entries the binary walk's stack needs
 };
+
+// The binary walk pushes at most one child per level of the tree on its way
+// down (shaders/nearest_hit.glsl).
+constexpr std::int32_t binaryStackSize(const Bvh& bvh) { return bvh.depth + 2; }
 
 // The wide walk pushes at most kWideBvhWidth - 1 children per level of the
 // tree on its way down (shaders/nearest_hit.glsl).

@@ -37,7 +37,7 @@ constexpr auto kBindings = bindings();
 constexpr vk::PushConstantRange kPushConstants{
     .stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = sizeof(FrameConstants)};
 
-constexpr std::array<vk::SpecializationMapEntry, 11> kSpecializationEntries{{
+constexpr std::array<vk::SpecializationMapEntry, 12> kSpecializationEntries{{
     {RT_SPEC_TWO_PASS, offsetof(SpecializationConstants, twoPass), sizeof(std::uint32_t)},
     {RT_SPEC_BOUNCE_EXIT, offsetof(SpecializationConstants, bounceExit), sizeof(std::uint32_t)},
     {RT_SPEC_MAX_DEPTH, offsetof(SpecializationConstants, maxDepth), sizeof(std::int32_t)},
@@ -49,6 +49,7 @@ constexpr std::array<vk::SpecializationMapEntry, 11> kSpecializationEntries{{
     {RT_SPEC_PERSISTENT, offsetof(SpecializationConstants, persistent), sizeof(std::uint32_t)},
     {RT_SPEC_STAGE, offsetof(SpecializationConstants, stage), sizeof(std::int32_t)},
     {RT_SPEC_COUNTERS, offsetof(SpecializationConstants, counters), sizeof(std::uint32_t)},
+    {RT_SPEC_BVH_STACK_SIZE, offsetof(SpecializationConstants, bvhStackSize), sizeof(std::int32_t)},
 }};
 
 vk::raii::DescriptorSetLayout createSetLayout(const Device& device) {

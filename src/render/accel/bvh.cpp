@@ -197,7 +197,7 @@ struct Piece {
 
 class Builder {
  public:
-  explicit Builder(std::span<const Sphere> spheres) : prims_(spheres.size()) {
+  Builder(std::span<const Sphere> spheres, BvhLeafRule leaves) : leaves_(leaves), prims_(spheres.size()) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, spheres.size(), kBinningChunk), [&](const auto& r) {
       for (std::size_t i = r.begin(); i != r.end(); ++i) {
         const Sphere& s = spheres[i];
@@ -283,7 +283,7 @@ class Builder {
   // Splits `range` in place into its two children, or returns false when it
   // stays a leaf (few spheres, the depth limit, or a leaf is cheaper).
   bool split(const Range& range, int depth, int& axis, Range& left, Range& right) {
-    if (range.count() <= kBvhMaxLeafSize || depth >= kBvhMaxDepth) return false;
+    if (range.count() <= leaves_.always || depth >= kBvhMaxDepth) return false;
     const Binner binner(range.centroids);
     const Binning binning = bin(range, binner);
     Split best;
@@ -291,7 +291,7 @@ class Builder {
       if (binner.splittable[a]) considerSplits(binning.axes[a], a, best);
     }
     // A leaf costs one test per sphere; an inner node one box test more.
-    if (best.axis < 0 || (range.count() <= 2 * kBvhMaxLeafSize && best.cost >= static_cast<float>(range.count()))) {
+    if (best.axis < 0 || (range.count() <= leaves_.sahUpTo && best.cost >= static_cast<float>(range.count()))) {
       return false;
     }
     const AxisBins& bins = binning.axes[best.axis];
@@ -395,16 +395,20 @@ class Builder {
     piece.block = std::vector<BvhNode>();
   }
 
+  BvhLeafRule leaves_;
   std::vector<Prim> prims_;
 };
 
 }  // namespace
 
-Bvh buildBvh(std::span<const Sphere> spheres) {
+Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves) {
   ZoneScopedN("BVH build");
   if (spheres.empty()) throw std::invalid_argument("a BVH needs at least one sphere");
+  if (leaves.always == 0 || leaves.sahUpTo < leaves.always) {
+    throw std::invalid_argument("a BVH leaf rule needs 1 <= always <= sahUpTo");
+  }
   const auto start = std::chrono::steady_clock::now();
-  Bvh bvh = Builder(spheres).build();
+  Bvh bvh = Builder(spheres, leaves).build();
   bvh.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return bvh;
 }

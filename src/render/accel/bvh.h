@@ -60,14 +60,28 @@ inline float traversalPad(const Bvh& bvh, float originMaxCoordinate) {
 
 // Deepest tree a traversal stack must hold (the build stops splitting there).
 inline constexpr int kBvhMaxDepth = RT_BVH_MAX_DEPTH;
-// Spheres a leaf holds at most unless they cannot be told apart (coincident centres).
+// When the build stops splitting: a range of at most `always` spheres is a
+// leaf; one of up to `sahUpTo` stays a leaf where the SAH finds no cheaper
+// split; any other is split, unless its spheres cannot be told apart
+// (coincident centres), which stay together.
+struct BvhLeafRule {
+  std::uint32_t always;
+  std::uint32_t sahUpTo;
+};
+// The CPU kernels' leaves: up to four spheres, eight where the SAH says so.
 inline constexpr std::uint32_t kBvhMaxLeafSize = 4;
+inline constexpr BvhLeafRule kBvhLeaves{kBvhMaxLeafSize, 2 * kBvhMaxLeafSize};
+// One sphere per leaf: the GPU renderer's binary walk, which tests a leaf
+// child's spheres in the visit that reaches it (docs/render-model.md
+// section 3, "How the GPU renderer walks the BVH").
+inline constexpr BvhLeafRule kSingleSphereLeaves{1, 1};
 
 // Builds the hierarchy over `spheres` (at least one; finite, radii > 0, as
-// the loader checks) on oneTBB, in the calling thread's task arena.
+// the loader checks) on oneTBB, in the calling thread's task arena, with
+// leaves as `leaves` says (always >= 1, sahUpTo >= always).
 // Deterministic: the same spheres give the same tree, bit for bit, with any
 // number of threads (tests/render/accel/bvh_build_test.cpp).
-Bvh buildBvh(std::span<const Sphere> spheres);
+Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves = kBvhLeaves);
 
 }  // namespace rt
 
@@ -77,9 +91,9 @@ namespace rt {
 // BVH for bvh, rebuilt by every prepare().
 class AccelStructure {
  public:
-  void prepare(std::span<const Sphere> spheres, Accel accel) {
+  void prepare(std::span<const Sphere> spheres, Accel accel, BvhLeafRule leaves = kBvhLeaves) {
     bvh_.reset();
-    if (accel == Accel::bvh) bvh_ = buildBvh(spheres);
+    if (accel == Accel::bvh) bvh_ = buildBvh(spheres, leaves);
   }
   // Null for brute force.
   [[nodiscard]] const Bvh* bvh() const { return bvh_ ? &*bvh_ : nullptr; }

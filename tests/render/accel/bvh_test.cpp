@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 #include "render/accel/accel_scenes.h"
@@ -64,6 +65,34 @@ TEST(Bvh, SplitsLargeScenesAndKeepsLeavesSmall) {
   const auto leaves = std::ranges::count_if(bvh.nodes, [](const BvhNode& n) { return n.leaf(); });
   EXPECT_EQ(static_cast<std::size_t>(leaves) * 2 - 1, bvh.nodes.size())
       << "a binary tree: every inner node has two children";
+}
+
+// The leaf rule: the GPU renderer's binary walk builds with one sphere per
+// leaf, the CPU kernels with up to four (eight where the SAH says so); both
+// trees are well formed, and only coincident spheres share a leaf past
+// the rule.
+TEST(Bvh, LeafRuleBoundsEveryLeafButCoincidentSpheres) {
+  const std::vector<Sphere> spheres = test::randomSpheres(1000, 12, 0.4f);
+  const auto leafSizes = [&](BvhLeafRule rule, const std::string& label) {
+    const Bvh bvh = buildBvh(spheres, rule);
+    expectWellFormed(bvh, spheres, label);
+    std::vector<std::uint32_t> sizes;
+    for (const BvhNode& n : bvh.nodes) {
+      if (n.leaf()) sizes.push_back(n.count());
+    }
+    return sizes;
+  };
+  const std::vector<std::uint32_t> single = leafSizes(kSingleSphereLeaves, "single");
+  const std::vector<std::uint32_t> cpu = leafSizes(kBvhLeaves, "cpu");
+  EXPECT_TRUE(std::ranges::all_of(single, [](std::uint32_t n) { return n == 1u; }));
+  EXPECT_EQ(single.size(), spheres.size());
+  EXPECT_TRUE(std::ranges::all_of(cpu, [](std::uint32_t n) { return n <= kBvhLeaves.sahUpTo; }));
+  EXPECT_TRUE(std::ranges::any_of(cpu, [](std::uint32_t n) { return n > 1u; }));
+  EXPECT_THROW(buildBvh(spheres, BvhLeafRule{0, 1}), std::invalid_argument);
+  EXPECT_THROW(buildBvh(spheres, BvhLeafRule{2, 1}), std::invalid_argument);
+
+  const std::vector<Sphere> pile(3, Sphere{{1, 2, 3}, 0.5f, glm::vec3(1)});
+  EXPECT_EQ(buildBvh(pile, kSingleSphereLeaves).nodes[0].count(), 3u) << "coincident spheres cannot be split";
 }
 
 TEST(Bvh, CoincidentSpheresShareOneLeaf) {
