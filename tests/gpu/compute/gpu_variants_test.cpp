@@ -14,6 +14,7 @@
 #include "gpu/gpu_test_support.h"
 #include "gpu/vulkan/device.h"
 #include "render/accel/accel_scenes.h"
+#include "render/accel/bvh.h"
 #include "render/render_test_support.h"
 #include "test_support.h"
 
@@ -228,6 +229,24 @@ TEST_F(GpuVariants, ReportsItsAxesAfterPrepare) {
   options.gpuBvh = GpuBvh::wide;
   renderFrame(gpu, loadNamedScene("default"), {16, 16}, options, kFrame);
   EXPECT_EQ(gpu.info().gpuBvh, GpuBvh::wide);
+}
+
+// The binary walk builds its tree with one sphere per leaf, a binary tree
+// of 2n - 1 nodes over n spheres that never coincide; the wide walk
+// collapses the CPU kernels' tree (kBvhLeaves), as the SIMD kernel does.
+TEST_F(GpuVariants, TheBinaryWalksTreeHasOneSpherePerLeaf) {
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  const Scene scene = loadNamedScene("random1000");
+  RenderOptions options = optionsForStage(Stage::optimized);
+  options.accel = Accel::bvh;
+  renderFrame(gpu, scene, {16, 16}, options, kFrame);
+  ASSERT_TRUE(gpu.info().accelStructure.has_value());
+  EXPECT_EQ(gpu.info().accelStructure->nodes, 2 * scene.spheres.size() - 1);
+  EXPECT_EQ(gpu.info().accelStructure->nodes, buildBvh(scene.spheres, kSingleSphereLeaves).nodes.size());
+  options.gpuBvh = GpuBvh::wide;
+  renderFrame(gpu, scene, {16, 16}, options, kFrame);
+  ASSERT_TRUE(gpu.info().accelStructure.has_value());
+  EXPECT_EQ(gpu.info().accelStructure->nodes, buildBvh(scene.spheres).nodes.size());
 }
 
 }  // namespace
