@@ -228,7 +228,7 @@ HWY_INLINE Vec3x<D> Select(D d, MaskF<D> m, const Vec3x<D>& yes, const Vec3x<D>&
 
 // ---- Counters (--counters) ------------------------------------------------
 
-// Lanes of a mask as bits, lane 0 lowest (packets have at most 16 lanes).
+// Lanes of a mask as bits, lane 0 lowest (packets have at most kMaxPacketLanes lanes).
 template <class D>
 HWY_INLINE std::uint32_t LaneBits(D d, MaskF<D> m) {
   static_assert(hn::MaxLanes(D()) <= kMaxPacketLanes, "lane masks are kept in 32 bits");
