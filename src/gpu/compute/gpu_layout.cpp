@@ -1,5 +1,7 @@
 #include "gpu/compute/gpu_layout.h"
 
+#include <algorithm>
+
 namespace rt::gpu {
 
 std::vector<GPUSphere> toGpuSpheres(std::span<const Sphere> spheres) {
@@ -9,19 +11,48 @@ std::vector<GPUSphere> toGpuSpheres(std::span<const Sphere> spheres) {
   return out;
 }
 
+namespace {
+
+// The number each inner node of `bvh` takes in the GPU's array: inner nodes
+// only, depth first, a node before its left subtree and that before its
+// right one; leaves get none (kNoGpuNode).
+constexpr std::uint32_t kNoGpuNode = ~0u;
+
+std::vector<std::uint32_t> gpuNodeNumbers(const Bvh& bvh) {
+  std::vector<std::uint32_t> number(bvh.nodes.size(), kNoGpuNode);
+  std::uint32_t next = 0;
+  std::vector<std::uint32_t> pending{0};  // the root, numbered even when it is a leaf
+  while (!pending.empty()) {
+    const std::uint32_t index = pending.back();
+    pending.pop_back();
+    number[index] = next++;
+    const BvhNode& n = bvh.nodes[index];
+    if (n.leaf()) continue;
+    for (const std::uint32_t child : {n.first + 1, n.first}) {  // the left child comes off first
+      if (!bvh.nodes[child].leaf()) pending.push_back(child);
+    }
+  }
+  return number;
+}
+
+}  // namespace
+
 std::vector<GpuBinaryNode> toGpuBinaryNodes(const Bvh& bvh) {
-  std::vector<GpuBinaryNode> out(bvh.nodes.size());
+  const std::vector<std::uint32_t> number = gpuNodeNumbers(bvh);
+  const auto innerCount =
+      static_cast<std::size_t>(std::ranges::count_if(number, [](std::uint32_t k) { return k != kNoGpuNode; }));
+  std::vector<GpuBinaryNode> out(innerCount);
   const auto child = [&](std::uint32_t index, glm::vec3& lo, std::uint32_t& word, glm::vec3& hi, std::uint32_t& count) {
     const BvhNode& n = bvh.nodes[index];
     lo = n.lo;
     hi = n.hi;
-    word = n.leaf() ? n.first : index;
+    word = n.leaf() ? n.first : number[index];
     count = n.leaf() ? n.count() : 0u;
   };
   for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+    if (number[i] == kNoGpuNode) continue;
     const BvhNode& n = bvh.nodes[i];
-    if (n.leaf() && i != 0) continue;
-    GpuBinaryNode& g = out[i];
+    GpuBinaryNode& g = out[number[i]];
     const std::uint32_t left = n.leaf() ? 0u : n.first;
     const std::uint32_t right = n.leaf() ? 0u : n.first + 1;
     child(left, g.lo0, g.child0, g.hi0, g.count0);

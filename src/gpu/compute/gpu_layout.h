@@ -36,10 +36,11 @@ static_assert(offsetof(GPUSphere, pad) == 28);
 
 // --gpu-bvh binary: each inner node of rt::Bvh as the shader walks it, with
 // its two children's boxes (Aila and Laine's layout: a visit tests both and
-// goes on without a stack round trip). A child's word is its node's index,
-// or for a leaf its first slot in Bvh::order with its sphere count beside
-// the box (0 for an inner child). Bvh's encoding and depth limit are
-// shaders/bvh_layout.h's, which both sides include.
+// goes on without a stack round trip). A child's word is its node's
+// number in this array (below), or for a leaf its first slot in Bvh::order
+// with its sphere count beside the box (0 for an inner child). Bvh's
+// encoding and depth limit are shaders/bvh_layout.h's, which both sides
+// include.
 struct GpuBinaryNode {
   glm::vec3 lo0;
   std::uint32_t child0;
@@ -55,9 +56,14 @@ static_assert(offsetof(GpuBinaryNode, child0) == 12 && offsetof(GpuBinaryNode, c
 static_assert(offsetof(GpuBinaryNode, child1) == 44 && offsetof(GpuBinaryNode, count1) == 60);
 static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t));
 
-// The nodes the shader walks, indexed as in bvh.nodes (a leaf's entry is
-// unused). A tree that is one leaf gets a root with that leaf as both
-// children: testing its spheres twice cannot change the nearest hit.
+// The nodes the shader walks: the inner nodes of bvh.nodes only, numbered
+// depth first (a node, then its left subtree, then its right one), so that
+// no leaf leaves a hole in the buffer and a node's left child is its
+// neighbour in memory. Numbered as in bvh.nodes, half the entries (the
+// leaves) were holes: twice the device memory, and 1 % slower at
+// 1,000,000 spheres on the H100 (docs/render-model.md section 3). A tree
+// that is one leaf gets a root with that leaf as both children: testing its
+// spheres twice cannot change the nearest hit.
 std::vector<GpuBinaryNode> toGpuBinaryNodes(const Bvh& bvh);
 
 // The leaves' spheres as (position, radius) in leaf order: `order[k]`'s
