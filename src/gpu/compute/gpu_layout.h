@@ -60,7 +60,7 @@ static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t))
 // depth first (a node, then its left subtree, then its right one), so that
 // no leaf leaves a hole in the buffer and a node's left child is its
 // neighbour in memory. Numbered as in bvh.nodes, half the entries (the
-// leaves) were holes: twice the device memory, and 1 % slower at
+// leaves) were holes: twice the device memory, and 0.7 % slower at
 // 1,000,000 spheres on the H100 (docs/render-model.md section 3). A tree
 // that is one leaf gets a root with that leaf as both children: testing its
 // spheres twice cannot change the nearest hit.
