@@ -13,7 +13,7 @@ The rule, on every supported release (Debian 12 and Debian 13 alike):
   generated there), and with NumPy's AVX-512 code switched off: on a CPU
   that has it, NumPy's AVX-512 logarithm differs from the scalar one in the
   last bit, which moves anti-aliased edges of the log-log figure
-  (cost_vs_spheres.png) by 1/255 on a few dozen pixels; the committed
+  (cost_vs_spheres.png) by 1/255 on 16 to 93 pixels; the committed
   figures were drawn without it. Another matplotlib draws the same figure
   with other bytes (anti-aliasing, SVG path data), so under it each figure
   must only be there, and be a PNG that decodes to the same pixel size, or
