@@ -123,12 +123,15 @@ void beginSearch() {
   searchSpheres = 0u;
 }
 
-// Whether the ray may meet a sphere inside the box lo..hi, widened by
-// `pad`, nearer than the best hit (+ pad): the CPU kernels' slab test; and
-// the distance at which it enters the box.
+// Whether the ray may meet a sphere inside the box lo..hi nearer than the
+// best hit (+ pad): the CPU kernels' slab test; and the distance at which it
+// enters the box. The box comes widened already, by the pad of every ray the
+// scene traces (rt::sceneTraversalPad, at upload), which is at least this
+// ray's `pad`: widening it here, ray by ray, took 12 of a visit's additions
+// (docs/render-model.md section 3).
 bool boxReachable(vec3 lo, vec3 hi, Ray ray, vec3 inverse, float pad, out float entry) {
-  vec3 t0 = (lo - pad - toFloat3(ray.origin)) * inverse;
-  vec3 t1 = (hi + pad - toFloat3(ray.origin)) * inverse;
+  vec3 t0 = (lo - toFloat3(ray.origin)) * inverse;
+  vec3 t1 = (hi - toFloat3(ray.origin)) * inverse;
   vec3 near = min(t0, t1);
   vec3 far = max(t0, t1);
   entry = max(max(near.x, near.y), near.z);

@@ -1,6 +1,8 @@
 #include "scene/camera.h"
 
+#include <algorithm>
 #include <cmath>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -14,6 +16,17 @@ glm::dvec3 rotateAboutY(glm::dvec3 v, double angle) {
 }
 
 }  // namespace
+
+float cameraMaxCoordinate(const CameraSpec& camera) {
+  const glm::dvec3 p = glm::abs(camera.position);
+  double bound = std::max({p.x, p.y, p.z});
+  if (camera.orbits() && camera.focusPoint) {
+    // On its orbit the camera stays at its distance from the focus point.
+    const glm::dvec3 f = glm::abs(*camera.focusPoint);
+    bound = std::max(bound, std::max({f.x, f.y, f.z}) + glm::length(camera.position - *camera.focusPoint));
+  }
+  return static_cast<float>(bound);
+}
 
 CameraFrame cameraAtFrame(const CameraSpec& spec, long long frame) {
   glm::dvec3 position = spec.position;

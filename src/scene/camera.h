@@ -19,6 +19,11 @@ struct CameraFrame {
   float tanHalfFov;
 };
 
+// The largest |coordinate| the camera takes on its orbit (or at rest): a
+// bound on where camera rays start, which sizes the traversal pad of the
+// boxes that every ray of the scene is tested against (render/accel/bvh.h).
+float cameraMaxCoordinate(const CameraSpec& camera);
+
 // The Update phase: frame k's camera, computed from k directly (never
 // accumulated), so it does not depend on timing or on earlier frames.
 CameraFrame cameraAtFrame(const CameraSpec& spec, long long frame);

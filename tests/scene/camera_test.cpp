@@ -84,5 +84,16 @@ TEST(Camera, StaticCameraIgnoresTheFrameIndex) {
   expectNear(b.forward, {0.0f, 0.0f, 1.0f});
 }
 
+TEST(Camera, MaxCoordinateCoversTheOrbit) {
+  CameraSpec camera;
+  camera.position = {0.0, 0.0, -10.0};
+  camera.focusPoint = glm::dvec3(5.0, 0.0, 0.0);
+  camera.orbitVelocity = 1.0;
+  // 5 + |(-5, 0, -10)|: the orbit's radius about a focus 5 from the origin.
+  EXPECT_NEAR(cameraMaxCoordinate(camera), 5.0 + std::sqrt(125.0), 1e-4);
+  camera.orbitVelocity = 0.0;
+  EXPECT_EQ(cameraMaxCoordinate(camera), 10.0f);
+}
+
 }  // namespace
 }  // namespace rt

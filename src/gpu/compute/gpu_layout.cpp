@@ -37,15 +37,15 @@ std::vector<std::uint32_t> gpuNodeNumbers(const Bvh& bvh) {
 
 }  // namespace
 
-std::vector<GpuBinaryNode> toGpuBinaryNodes(const Bvh& bvh) {
+std::vector<GpuBinaryNode> toGpuBinaryNodes(const Bvh& bvh, float boxPad) {
   const std::vector<std::uint32_t> number = gpuNodeNumbers(bvh);
   const auto innerCount =
       static_cast<std::size_t>(std::ranges::count_if(number, [](std::uint32_t k) { return k != kNoGpuNode; }));
   std::vector<GpuBinaryNode> out(innerCount);
   const auto child = [&](std::uint32_t index, glm::vec3& lo, std::uint32_t& word, glm::vec3& hi, std::uint32_t& count) {
     const BvhNode& n = bvh.nodes[index];
-    lo = n.lo;
-    hi = n.hi;
+    lo = n.lo - boxPad;
+    hi = n.hi + boxPad;
     word = n.leaf() ? n.first : number[index];
     count = n.leaf() ? n.count() : 0u;
   };

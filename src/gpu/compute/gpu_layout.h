@@ -63,8 +63,11 @@ static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t))
 // leaves) were holes: twice the device memory, and 0.7 % slower at
 // 1,000,000 spheres on the H100 (docs/render-model.md section 3). A tree
 // that is one leaf gets a root with that leaf as both children: testing its
-// spheres twice cannot change the nearest hit.
-std::vector<GpuBinaryNode> toGpuBinaryNodes(const Bvh& bvh);
+// spheres twice cannot change the nearest hit. Each child's box is widened
+// by `boxPad` on every side: the scene's traversal pad (sceneTraversalPad),
+// so that the shader's box test does not widen it ray by ray
+// (docs/render-model.md section 3).
+std::vector<GpuBinaryNode> toGpuBinaryNodes(const Bvh& bvh, float boxPad);
 
 // The leaves' spheres as (position, radius) in leaf order: `order[k]`'s
 // sphere in slot k; a negative index (an unused wide leaf slot) gives zeros.

@@ -19,6 +19,7 @@
 #include "gpu/vulkan/frame_commands.h"
 #include "render/accel/bvh.h"
 #include "render/accel/wide_bvh.h"
+#include "scene/camera.h"
 
 namespace rt::gpu {
 namespace {
@@ -182,16 +183,18 @@ AccelStructure accelFor(const Scene& scene, const RenderOptions& options) {
 }
 
 // The BVH's nodes and sphere order on the device (--accel bvh only), and
-// the spheres of the leaves of the tree walked in leaf order.
+// the spheres of the leaves of the tree walked in leaf order. The binary
+// walk's boxes come widened by the scene's traversal pad.
 struct BvhBuffers {
-  BvhBuffers(const Device& device, CommandRunner& runner, const Bvh& bvh, std::span<const Sphere> spheres,
-             const WideBvh* wide)
-      : nodes(uploadStorage(device, runner, std::span<const GpuBinaryNode>(toGpuBinaryNodes(bvh)))),
+  BvhBuffers(const Device& device, CommandRunner& runner, const Bvh& bvh, const Scene& scene, const WideBvh* wide)
+      : nodes(uploadStorage(device, runner,
+                            std::span<const GpuBinaryNode>(
+                                toGpuBinaryNodes(bvh, sceneTraversalPad(bvh, cameraMaxCoordinate(scene.camera)))))),
         order(uploadStorage(device, runner, std::span(bvh.order))),
-        leafSpheres(uploadStorage(device, runner,
-                                  std::span<const glm::vec4>(wide ? gpu::leafSpheres(spheres, std::span(wide->index))
-                                                                  : gpu::leafSpheres(spheres, std::span(bvh.order))))) {
-  }
+        leafSpheres(
+            uploadStorage(device, runner,
+                          std::span<const glm::vec4>(wide ? gpu::leafSpheres(scene.spheres, std::span(wide->index))
+                                                          : gpu::leafSpheres(scene.spheres, std::span(bvh.order))))) {}
   Buffer nodes;
   Buffer order;
   Buffer leafSpheres;
@@ -301,9 +304,8 @@ struct GPURenderer::SceneObjects {
         wide(wideBvhFor(s, o, accel.bvh())),
         pipeline(d, o.precision, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
         spheres(uploadStorage(d, runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
-        bvhBuffers(accel.bvh()
-                       ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s.spheres, wide ? &*wide : nullptr)
-                       : std::nullopt),
+        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s, wide ? &*wide : nullptr)
+                               : std::nullopt),
         wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d, runner, *wide) : std::nullopt),
         counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d) : std::nullopt),
         scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d, s, e, o) : std::nullopt),

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "render/accel/bvh.h"
+#include "scene/camera.h"
 
 namespace rt::gpu {
 namespace {
@@ -115,7 +116,7 @@ std::vector<SphereBox> paddedSphereBoxes(std::span<const Sphere> spheres, float 
     for (int a = 0; a < 3; ++a) maxCoordinate = std::max(maxCoordinate, std::abs(s.position[a]) + s.radius);
   }
   // Reflected rays start on the spheres' surfaces, camera rays at the camera.
-  const float pad = traversalPad(maxRadius, maxCoordinate, std::max(maxCoordinate, cameraBound));
+  const float pad = sceneTraversalPad(maxRadius, maxCoordinate, cameraBound);
   std::vector<SphereBox> boxes(spheres.size());
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     const Sphere& s = spheres[i];
@@ -125,17 +126,6 @@ std::vector<SphereBox> paddedSphereBoxes(std::span<const Sphere> spheres, float 
     }
   }
   return boxes;
-}
-
-float cameraMaxCoordinate(const CameraSpec& camera) {
-  const glm::dvec3 p = glm::abs(camera.position);
-  double bound = std::max({p.x, p.y, p.z});
-  if (camera.orbits() && camera.focusPoint) {
-    // On its orbit the camera stays at its distance from the focus point.
-    const glm::dvec3 f = glm::abs(*camera.focusPoint);
-    bound = std::max(bound, std::max({f.x, f.y, f.z}) + glm::length(camera.position - *camera.focusPoint));
-  }
-  return static_cast<float>(bound);
 }
 
 SphereAccelerationStructure::SphereAccelerationStructure(const Device& device, CommandRunner& runner,

@@ -223,8 +223,21 @@ void requireShaderFloat16(const vk::raii::PhysicalDevice& physical, const Device
                            "(--precision f16) there; --precision f32 runs on any Vulkan device");
 }
 
+// Whether pipelines may opt out of bounds-checked storage-buffer access
+// (VK_EXT_pipeline_robustness). NVIDIA's driver guards every storage-buffer
+// load with a bounds test unless a pipeline opts out; see Device::pipelineRobustness.
+bool offersPipelineRobustness(const vk::raii::PhysicalDevice& physical) {
+  if (!hasExtension(physical.enumerateDeviceExtensionProperties(), VK_EXT_PIPELINE_ROBUSTNESS_EXTENSION_NAME)) {
+    return false;
+  }
+  const auto features =
+      physical.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDevicePipelineRobustnessFeaturesEXT>();
+  return features.get<vk::PhysicalDevicePipelineRobustnessFeaturesEXT>().pipelineRobustness == VK_TRUE;
+}
+
 vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, std::uint32_t queueFamily,
-                                     const DeviceInfo& described, const ContextOptions& options) {
+                                     const DeviceInfo& described, const ContextOptions& options,
+                                     bool pipelineRobustness) {
   const bool swapchain = options.presents();
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queue{
@@ -248,9 +261,11 @@ vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, s
     // its -Wstringop-overflow misreads as writing past the vector.
     for (const char* name : rayTracingExtensions(options)) extensions.push_back(name);
   }
+  if (pipelineRobustness) extensions.push_back(VK_EXT_PIPELINE_ROBUSTNESS_EXTENSION_NAME);
   vk::StructureChain<
       vk::DeviceCreateInfo, vk::PhysicalDeviceVulkan12Features, vk::PhysicalDeviceAccelerationStructureFeaturesKHR,
-      vk::PhysicalDeviceRayTracingPipelineFeaturesKHR, vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV>
+      vk::PhysicalDeviceRayTracingPipelineFeaturesKHR, vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV,
+      vk::PhysicalDevicePipelineRobustnessFeaturesEXT>
       chain{vk::DeviceCreateInfo{.queueCreateInfoCount = 1,
                                  .pQueueCreateInfos = &queue,
                                  .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),
@@ -259,7 +274,8 @@ vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, s
                                                .bufferDeviceAddress = options.rayTracing ? VK_TRUE : VK_FALSE},
             vk::PhysicalDeviceAccelerationStructureFeaturesKHR{.accelerationStructure = VK_TRUE},
             vk::PhysicalDeviceRayTracingPipelineFeaturesKHR{.rayTracingPipeline = VK_TRUE},
-            vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV{.rayTracingInvocationReorder = VK_TRUE}};
+            vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV{.rayTracingInvocationReorder = VK_TRUE},
+            vk::PhysicalDevicePipelineRobustnessFeaturesEXT{.pipelineRobustness = VK_TRUE}};
   // Without ray tracing or half precision the device is created as before: no features chained.
   if (!options.rayTracing && !options.shaderFloat16) chain.unlink<vk::PhysicalDeviceVulkan12Features>();
   if (!options.rayTracing) {
@@ -267,6 +283,7 @@ vk::raii::Device createLogicalDevice(const vk::raii::PhysicalDevice& physical, s
     chain.unlink<vk::PhysicalDeviceRayTracingPipelineFeaturesKHR>();
   }
   if (!options.invocationReorder) chain.unlink<vk::PhysicalDeviceRayTracingInvocationReorderFeaturesNV>();
+  if (!pipelineRobustness) chain.unlink<vk::PhysicalDevicePipelineRobustnessFeaturesEXT>();
   return vk::raii::Device(physical, chain.get<vk::DeviceCreateInfo>());
 }
 
@@ -335,7 +352,8 @@ Device::Device(const ContextOptions& options) : instance_(options) {
   physical_ = std::move(chosen.physical);
   queueFamily_ = chosen.queueFamily;
   memory_ = physical_.getMemoryProperties();
-  device_ = createLogicalDevice(physical_, queueFamily_, info_, options);
+  pipelineRobustness_ = offersPipelineRobustness(physical_);
+  device_ = createLogicalDevice(physical_, queueFamily_, info_, options, pipelineRobustness_);
   queue_ = vk::raii::Queue(device_, queueFamily_, 0);
   shaderFloat16_ = options.shaderFloat16;  // createLogicalDevice refused a device without it
 }

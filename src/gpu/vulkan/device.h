@@ -81,6 +81,11 @@ class Device {
   [[nodiscard]] std::uint32_t queueFamily() const { return queueFamily_; }
   // Whether the device was created with shaderFloat16 enabled (ContextOptions::shaderFloat16).
   [[nodiscard]] bool shaderFloat16() const { return shaderFloat16_; }
+  // Whether the device was created with VK_EXT_pipeline_robustness, so that a
+  // pipeline may turn off the bounds tests of its storage-buffer accesses
+  // (the compute renderer does: docs/render-model.md section 3). Without it
+  // the driver decides, as before.
+  [[nodiscard]] bool pipelineRobustness() const { return pipelineRobustness_; }
 
   // A memory type allowed by `typeBits` with every `required` property;
   // among those, one that also has the `preferred` ones when there is one.
@@ -97,6 +102,7 @@ class Device {
   vk::raii::Device device_ = nullptr;
   vk::raii::Queue queue_ = nullptr;
   bool shaderFloat16_ = false;
+  bool pipelineRobustness_ = false;
 };
 
 }  // namespace rt::gpu

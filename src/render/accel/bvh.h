@@ -4,6 +4,7 @@
 // in one array, children side by side: compact enough for a storage buffer
 // and cheap to walk with a small fixed stack, one ray or one packet at a
 // time.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <glm/vec3.hpp>
@@ -56,6 +57,20 @@ inline float traversalPad(float maxRadius, float maxCoordinate, float originMaxC
 
 inline float traversalPad(const Bvh& bvh, float originMaxCoordinate) {
   return traversalPad(bvh.maxRadius, bvh.maxCoordinate, originMaxCoordinate);
+}
+
+// The pad of every ray a scene traces: reflected rays start on the spheres'
+// surfaces (within maxCoordinate), camera rays at the camera (within
+// `cameraBound`, scene/camera.h). A float hit point or camera position may
+// lie an ulp past those bounds, so the bound is raised by 2^-20 of itself,
+// which a pad that grows with it then covers.
+inline float sceneTraversalPad(float maxRadius, float maxCoordinate, float cameraBound) {
+  const float bound = std::max(maxCoordinate, cameraBound);
+  return traversalPad(maxRadius, maxCoordinate, bound + bound * 0x1p-20f);
+}
+
+inline float sceneTraversalPad(const Bvh& bvh, float cameraBound) {
+  return sceneTraversalPad(bvh.maxRadius, bvh.maxCoordinate, cameraBound);
 }
 
 // Deepest tree a traversal stack must hold (the build stops splitting there).

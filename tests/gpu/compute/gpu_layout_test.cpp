@@ -68,12 +68,32 @@ TEST(GpuBinaryNodes, EachInnerNodeHoldsItsChildrensBoxesAndWords) {
     for (const BvhLeafRule leaves : {kBvhLeaves, kSingleSphereLeaves}) {
       const Bvh bvh = buildBvh(scene.spheres, leaves);
       if (bvh.nodes[0].leaf()) continue;  // the next test's case
-      const std::vector<gpu::GpuBinaryNode> nodes = gpu::toGpuBinaryNodes(bvh);
+      const std::vector<gpu::GpuBinaryNode> nodes = gpu::toGpuBinaryNodes(bvh, 0.0f);
       EXPECT_EQ(nodes.size(),
                 static_cast<std::size_t>(std::ranges::count_if(bvh.nodes, [](const BvhNode& n) { return !n.leaf(); })))
           << name;
       expectSameTree(bvh, nodes, name);
     }
+  }
+}
+
+// The boxes come widened by the pad on every side; the words stay.
+TEST(GpuBinaryNodes, EachChildsBoxIsWidenedByThePad) {
+  const Scene scene = loadNamedScene("random100");
+  const Bvh bvh = buildBvh(scene.spheres, kSingleSphereLeaves);
+  const float pad = 0.25f;
+  const std::vector<gpu::GpuBinaryNode> tight = gpu::toGpuBinaryNodes(bvh, 0.0f);
+  const std::vector<gpu::GpuBinaryNode> padded = gpu::toGpuBinaryNodes(bvh, pad);
+  ASSERT_EQ(tight.size(), padded.size());
+  for (std::size_t i = 0; i < tight.size(); ++i) {
+    EXPECT_EQ(padded[i].lo0, tight[i].lo0 - pad) << i;
+    EXPECT_EQ(padded[i].hi0, tight[i].hi0 + pad) << i;
+    EXPECT_EQ(padded[i].lo1, tight[i].lo1 - pad) << i;
+    EXPECT_EQ(padded[i].hi1, tight[i].hi1 + pad) << i;
+    EXPECT_EQ(padded[i].child0, tight[i].child0) << i;
+    EXPECT_EQ(padded[i].child1, tight[i].child1) << i;
+    EXPECT_EQ(padded[i].count0, tight[i].count0) << i;
+    EXPECT_EQ(padded[i].count1, tight[i].count1) << i;
   }
 }
 
@@ -83,7 +103,7 @@ TEST(GpuBinaryNodes, ATreeOfOneLeafIsARootWithThatLeafTwice) {
   scene.spheres.resize(1);
   const Bvh bvh = buildBvh(scene.spheres);
   ASSERT_TRUE(bvh.nodes[0].leaf());
-  const std::vector<gpu::GpuBinaryNode> nodes = gpu::toGpuBinaryNodes(bvh);
+  const std::vector<gpu::GpuBinaryNode> nodes = gpu::toGpuBinaryNodes(bvh, 0.0f);
   ASSERT_EQ(nodes.size(), 1u);
   const gpu::GpuBinaryNode root = nodes[0];
   EXPECT_EQ(root.count0, 1u);

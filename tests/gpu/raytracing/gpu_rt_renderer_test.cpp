@@ -175,17 +175,6 @@ TEST(SphereBoxes, HoldTheirSpheresWithAPadThatGrowsWithTheCameraDistance) {
   }
 }
 
-TEST(SphereBoxes, TheCameraBoundCoversItsOrbit) {
-  CameraSpec camera;
-  camera.position = {0.0, 0.0, -10.0};
-  camera.focusPoint = glm::dvec3(5.0, 0.0, 0.0);
-  camera.orbitVelocity = 1.0;
-  // 5 + |(-5, 0, -10)|: the orbit's radius about a focus 5 from the origin.
-  EXPECT_NEAR(gpu::cameraMaxCoordinate(camera), 5.0 + std::sqrt(125.0), 1e-4);
-  camera.orbitVelocity = 0.0;
-  EXPECT_EQ(gpu::cameraMaxCoordinate(camera), 10.0f);
-}
-
 class GpuRtAgreement : public RayTracingGpuTest {
  protected:
   // Both algorithms and both bounce settings: the stages original
