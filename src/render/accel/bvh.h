@@ -59,11 +59,12 @@ inline float traversalPad(const Bvh& bvh, float originMaxCoordinate) {
   return traversalPad(bvh.maxRadius, bvh.maxCoordinate, originMaxCoordinate);
 }
 
-// The pad of every ray a scene traces: reflected rays start on the spheres'
-// surfaces (within maxCoordinate), camera rays at the camera (within
-// `cameraBound`, scene/camera.h). A float hit point or camera position may
-// lie an ulp past those bounds, so the bound is raised by 2^-20 of itself,
-// which a pad that grows with it then covers.
+// The pad of every ray a scene traces, at least traversalPad of any of its
+// origins: reflected rays start on the spheres' surfaces (within
+// maxCoordinate), camera rays at the camera (within `cameraBound`,
+// scene/camera.h). A float hit point or camera position may lie an ulp past
+// those bounds, so the bound is raised by 2^-20 of itself before it sizes
+// the pad.
 inline float sceneTraversalPad(float maxRadius, float maxCoordinate, float cameraBound) {
   const float bound = std::max(maxCoordinate, cameraBound);
   return traversalPad(maxRadius, maxCoordinate, bound + bound * 0x1p-20f);

@@ -103,6 +103,18 @@ TEST(Bvh, CoincidentSpheresShareOneLeaf) {
   EXPECT_THROW(buildBvh({}), std::invalid_argument);
 }
 
+// The scene's pad is at least the pad of any origin its rays can have: a
+// sphere's surface (within maxCoordinate) or the camera, nearer or farther out.
+TEST(Bvh, SceneTraversalPadCoversEveryOrigin) {
+  const Bvh bvh = buildBvh(test::loadNamedScene("random100").spheres);
+  for (const float camera : {0.0f, 0.5f * bvh.maxCoordinate, 3.0f * bvh.maxCoordinate}) {
+    const float pad = sceneTraversalPad(bvh, camera);
+    EXPECT_GE(pad, traversalPad(bvh, bvh.maxCoordinate)) << camera;
+    EXPECT_GE(pad, traversalPad(bvh, camera)) << camera;
+  }
+  EXPECT_GT(sceneTraversalPad(bvh, 3.0f * bvh.maxCoordinate), sceneTraversalPad(bvh, 0.0f));
+}
+
 std::vector<test::NamedScene> exactnessScenes() {
   std::vector<test::NamedScene> scenes;
   for (const char* name : {"default", "random100"}) scenes.push_back({name, test::loadNamedScene(name)});
