@@ -124,11 +124,11 @@ void beginSearch() {
 }
 
 // Whether the ray may meet a sphere inside the box lo..hi nearer than the
-// best hit (+ pad): the CPU kernels' slab test; and the distance at which it
-// enters the box. The box comes widened already, by the pad of every ray the
-// scene traces (rt::sceneTraversalPad, at upload), which is at least this
-// ray's `pad`: widening it here, ray by ray, took 12 of a visit's additions
-// (docs/render-model.md section 3).
+// best hit (+ pad); and the distance at which it enters the box. The CPU
+// kernels' slab test, but on a box the upload widened already, by the pad
+// of every ray the scene traces (rt::sceneTraversalPad), which is at least
+// this ray's `pad`: widening it here, ray by ray, took 12 of a visit's
+// additions (docs/render-model.md section 3).
 bool boxReachable(vec3 lo, vec3 hi, Ray ray, vec3 inverse, float pad, out float entry) {
   vec3 t0 = (lo - toFloat3(ray.origin)) * inverse;
   vec3 t1 = (hi - toFloat3(ray.origin)) * inverse;
