@@ -33,6 +33,10 @@
 // structure its ray-generation shader traces (with the spheres and the
 // output image at their slots above; it binds nothing else).
 #define RT_BINDING_TLAS 13
+// --gpu-bvh grid: each cell's first slot and sphere count (rt::SphereGrid;
+// the slots' spheres and indices take the leaf spheres' and the BVH
+// order's bindings).
+#define RT_BINDING_GRID_CELLS 14
 
 // Specialization constants: fixed per pipeline, so the compiler removes the
 // branches of the variants that are not used (as the C++ templates do).
@@ -57,6 +61,15 @@
 #define RT_SPEC_COUNTERS 10
 // The binary walk's stack, from the tree's depth.
 #define RT_SPEC_BVH_STACK_SIZE 11
+// --gpu-bvh grid, and the grid's corner, cell side and cells per axis.
+#define RT_SPEC_GRID 12
+#define RT_SPEC_GRID_ORIGIN_X 13
+#define RT_SPEC_GRID_ORIGIN_Y 14
+#define RT_SPEC_GRID_ORIGIN_Z 15
+#define RT_SPEC_GRID_CELL_SIZE 16
+#define RT_SPEC_GRID_CELLS_X 17
+#define RT_SPEC_GRID_CELLS_Y 18
+#define RT_SPEC_GRID_CELLS_Z 19
 
 #define RT_STAGE_MEGAKERNEL 0
 #define RT_STAGE_WAVEFRONT_DEPTH 1

@@ -339,9 +339,76 @@ RaycastHit nearestHitInWideBvh(Ray ray) {
   return hitRecord(ray, toReal(searchBest), searchBestIndex);
 }
 
+// The grid (--gpu-bvh grid) ==================================================================
+
+// The distance along the ray to the plane of cell boundary `k` of one axis
+// (origin + k * side: exact, the side a power of two and the origin a
+// multiple of it, so the build and the shader agree on every cell).
+float gridPlaneDistance(int k, float gridOrigin, float origin, float inverse) {
+  return (gridOrigin + float(k) * GRID_CELL_SIZE - origin) * inverse;
+}
+
+// With the grid: the nearest hit of brute force. The ray steps through the
+// cells it crosses in order (Amanatides and Woo's walk, each boundary's
+// distance computed afresh rather than summed), tests every sphere a cell
+// lists, and stops once the next cell starts farther than the best hit
+// (+ pad). A cell lists every sphere whose surface passes within the
+// scene's traversal pad (and 2^-8 of a cell) of it, so a sphere the float
+// test hits at t is listed by a cell the ray crosses near t: the cells
+// before the stop hold every sphere nearer than the best hit, and an exact
+// tie still goes to the lower index (docs/render-model.md section 3).
+RaycastHit nearestHitInGrid(Ray ray) {
+  vec3 origin = toFloat3(ray.origin);
+  vec3 inverse = inverseDirection(toFloat3(ray.direction));
+  float pad = traversalPad(origin);
+  vec3 gridOrigin = vec3(GRID_ORIGIN_X, GRID_ORIGIN_Y, GRID_ORIGIN_Z);
+  ivec3 cells = ivec3(GRID_CELLS_X, GRID_CELLS_Y, GRID_CELLS_Z);
+  vec3 t0 = (gridOrigin - origin) * inverse;
+  vec3 t1 = (gridOrigin + vec3(cells) * GRID_CELL_SIZE - origin) * inverse;
+  vec3 near = min(t0, t1);
+  vec3 far = max(t0, t1);
+  float enter = max(max(near.x, near.y), near.z);
+  float leave = min(min(far.x, far.y), far.z);
+  if (enter > leave || leave < -pad) return hitRecord(ray, toReal(searchBest), searchBestIndex);
+  vec3 start = enter > 0.0 ? origin + enter * toFloat3(ray.direction) : origin;
+  ivec3 cell = clamp(ivec3(floor((start - gridOrigin) * (1.0 / GRID_CELL_SIZE))), ivec3(0), cells - 1);
+  ivec3 step = ivec3(greaterThanEqual(inverse, vec3(0.0))) * 2 - 1;
+  ivec3 ahead = max(step, ivec3(0));  // the boundary ahead of a cell: its own (-) or the next one's (+)
+  vec3 next = vec3(gridPlaneDistance(cell.x + ahead.x, gridOrigin.x, origin.x, inverse.x),
+                   gridPlaneDistance(cell.y + ahead.y, gridOrigin.y, origin.y, inverse.y),
+                   gridPlaneDistance(cell.z + ahead.z, gridOrigin.z, origin.z, inverse.z));
+  int number = (cell.z * cells.y + cell.y) * cells.x + cell.x;
+  ivec3 stride = step * ivec3(1, cells.x, cells.x * cells.y);
+  while (true) {
+    if (COUNTERS) ++searchNodes;
+    uvec2 listed = gridCells[number];
+    if (listed.y != 0u) testLeaf(ray, listed.x, listed.y);
+    float exit = min(min(next.x, next.y), next.z);
+    if (exit > searchBest + pad) break;
+    if (next.x <= next.y && next.x <= next.z) {
+      cell.x += step.x;
+      if (uint(cell.x) >= uint(cells.x)) break;
+      number += stride.x;
+      next.x = gridPlaneDistance(cell.x + ahead.x, gridOrigin.x, origin.x, inverse.x);
+    } else if (next.y <= next.z) {
+      cell.y += step.y;
+      if (uint(cell.y) >= uint(cells.y)) break;
+      number += stride.y;
+      next.y = gridPlaneDistance(cell.y + ahead.y, gridOrigin.y, origin.y, inverse.y);
+    } else {
+      cell.z += step.z;
+      if (uint(cell.z) >= uint(cells.z)) break;
+      number += stride.z;
+      next.z = gridPlaneDistance(cell.z + ahead.z, gridOrigin.z, origin.z, inverse.z);
+    }
+  }
+  return hitRecord(ray, toReal(searchBest), searchBestIndex);
+}
+
 // The one spatial query of the shader; the variant is fixed per pipeline.
 RaycastHit nearestHit(Ray ray) {
   beginSearch();
   if (!USE_BVH) return nearestHitOfAll(ray);
+  if (GRID) return nearestHitInGrid(ray);
   return WIDE_BVH ? nearestHitInWideBvh(ray) : nearestHitInBvh(ray);
 }

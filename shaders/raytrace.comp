@@ -46,6 +46,16 @@ layout(constant_id = RT_SPEC_BVH_MAX_COORDINATE) const float BVH_MAX_COORDINATE 
 layout(constant_id = RT_SPEC_WIDE_BVH) const bool WIDE_BVH = false;
 layout(constant_id = RT_SPEC_WIDE_STACK_SIZE) const int WIDE_STACK_SIZE = 1;
 // --gpu-schedule persistent: subgroups fetch their rays from a counter.
+// --gpu-bvh grid: rt::SphereGrid's corner, cell side (a power of two) and
+// cells per axis.
+layout(constant_id = RT_SPEC_GRID) const bool GRID = false;
+layout(constant_id = RT_SPEC_GRID_ORIGIN_X) const float GRID_ORIGIN_X = 0.0;
+layout(constant_id = RT_SPEC_GRID_ORIGIN_Y) const float GRID_ORIGIN_Y = 0.0;
+layout(constant_id = RT_SPEC_GRID_ORIGIN_Z) const float GRID_ORIGIN_Z = 0.0;
+layout(constant_id = RT_SPEC_GRID_CELL_SIZE) const float GRID_CELL_SIZE = 1.0;
+layout(constant_id = RT_SPEC_GRID_CELLS_X) const int GRID_CELLS_X = 1;
+layout(constant_id = RT_SPEC_GRID_CELLS_Y) const int GRID_CELLS_Y = 1;
+layout(constant_id = RT_SPEC_GRID_CELLS_Z) const int GRID_CELLS_Z = 1;
 layout(constant_id = RT_SPEC_PERSISTENT) const bool PERSISTENT = false;
 // RT_STAGE_*: the megakernel, or a wavefront's depth or resolve dispatch.
 layout(constant_id = RT_SPEC_STAGE) const int STAGE = RT_STAGE_MEGAKERNEL;
@@ -82,6 +92,12 @@ layout(std430, set = 0, binding = RT_BINDING_WIDE_NODES) readonly buffer WideNod
 };
 layout(std430, set = 0, binding = RT_BINDING_WIDE_INDEX) readonly buffer WideIndex {
   int wideIndex[];
+};
+
+// --gpu-bvh grid: each cell's first slot and sphere count (rt::SphereGrid;
+// its slots' spheres and scene indices are leafSpheres and bvhOrder).
+layout(std430, set = 0, binding = RT_BINDING_GRID_CELLS) readonly buffer GridCells {
+  uvec2 gridCells[];
 };
 
 layout(std430, set = 0, binding = RT_BINDING_COUNTERS) buffer Counters {

@@ -283,7 +283,7 @@ GPU_AXIS_NAMES = {axis: schema.schema()[axis + "s"] for axis in GPU_AXES}
         (["--gpu", "--accel", "none", "--gpu-bvh", "binary"], "it needs --accel bvh (accel is none)"),
         (["--gpu", "--gpu-schedule", "tiles"], "--gpu-schedule: tiles not in {pixel,persistent}"),
         (["--gpu", "--gpu-path", "zigzag"], "--gpu-path: zigzag not in {megakernel,wavefront}"),
-        (["--gpu", "--accel", "bvh", "--gpu-bvh", "quad"], "--gpu-bvh: quad not in {binary,wide}"),
+        (["--gpu", "--accel", "bvh", "--gpu-bvh", "quad"], "--gpu-bvh: quad not in {binary,wide,grid}"),
         (["--gpu", "--traversal", "single", "--accel", "bvh"], "renderer gpu has no traversal"),
     ],
 )

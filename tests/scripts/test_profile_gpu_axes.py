@@ -17,7 +17,7 @@ from rtbench.profiles import ProfileError
 
 PATH = Path("gpu-axes-test.toml")
 # Hand-written: the schema's variants and the flags the raytracer takes for them.
-BVHS, SCHEDULES, PATHS = ["binary", "wide"], ["pixel", "persistent"], ["megakernel", "wavefront"]
+BVHS, SCHEDULES, PATHS = ["binary", "wide", "grid"], ["pixel", "persistent"], ["megakernel", "wavefront"]
 FLAGS = {
     "gpu_bvh": "--gpu-bvh",
     "gpu_schedule": "--gpu-schedule",
@@ -62,8 +62,8 @@ def test_the_variants_multiply_only_the_gpu_renderer_and_its_bvh_only_with_accel
         for column, flag in FLAGS.items():
             assert flag_value(c, flag) == (c.gpu_axes[column] or None), (c.id, flag)
         assert c.describe()["gpu_schedule"] == c.gpu_schedule
-    # gpu: 8 with the BVH + 4 brute force; the others once per accel (embree and gpu_rt once).
-    assert len(configs) == 8 + 4 + 2 * (len(names.RENDERERS) - 1) - 2
+    # gpu: 12 with the BVH (or the grid) + 4 brute force; the others once per accel (embree and gpu_rt once).
+    assert len(configs) == 12 + 4 + 2 * (len(names.RENDERERS) - 1) - 2
 
 
 def test_the_defaults_run_the_gpu_as_before_and_leave_its_names_as_they_were():
@@ -82,7 +82,8 @@ def test_a_variant_names_its_configuration_where_it_is_not_the_default():
     assert ids[("wide", "pixel", "megakernel")] == "random100-gpu-optimized-bvh-wide-size64x48"
     assert ids[("binary", "persistent", "wavefront")] == "random100-gpu-optimized-bvh-persistent-wavefront-size64x48"
     assert ids[("wide", "persistent", "wavefront")] == "random100-gpu-optimized-bvh-wide-persistent-wavefront-size64x48"
-    assert len(set(ids.values())) == 8
+    assert ids[("grid", "pixel", "megakernel")] == "random100-gpu-optimized-bvh-grid-size64x48"
+    assert len(set(ids.values())) == 12
 
 
 def test_counters_reach_the_gpu_renderer_too():
@@ -117,7 +118,7 @@ def test_overrides_match_the_variants_and_never_a_configuration_without_that_axi
 @pytest.mark.parametrize(
     "keys, message",
     [
-        ({"gpu_bvhs": ["binary", "quad"]}, "gpu_bvhs must be a list, each one of binary, wide"),
+        ({"gpu_bvhs": ["binary", "quad"]}, "gpu_bvhs must be a list, each one of binary, wide, grid"),
         ({"gpu_schedules": "persistent"}, "gpu_schedules must be a list"),
         ({"gpu_paths": ["wavefront", "wavefront"]}, "gpu_paths names a value twice"),
         ({"accels": ["none"], "gpu_bvhs": ["wide"]}, "gpu_bvhs: applies to the gpu renderer with accel bvh only"),
@@ -147,7 +148,7 @@ def test_the_gpu_machine_profile_runs_the_gpu_bvh_in_every_variant_on_random100(
     configs = expand_profile("gpu-machine")
     gpu_bvh = [c for c in configs if c.renderer == "gpu" and c.accel == "bvh"]
     cells = Counter((c.scene, c.variant.label, (c.width, c.height)) for c in gpu_bvh)
-    assert cells == {("random100", stage, size): 8 for stage in names.STAGES for size in ((800, 600), (1920, 1080))}
+    assert cells == {("random100", stage, size): 12 for stage in names.STAGES for size in ((800, 600), (1920, 1080))}
     for cell in cells:
         variants = {variant(c) for c in gpu_bvh if (c.scene, c.variant.label, (c.width, c.height)) == cell}
         assert variants == set(itertools.product(BVHS, SCHEDULES, PATHS))
@@ -158,7 +159,7 @@ def test_the_gpu_machine_profile_runs_the_gpu_bvh_in_every_variant_on_random100(
     # No CPU renderer gains the BVH; embree and gpu_rt keep their own.
     assert {c.renderer for c in configs if c.accel == "bvh"} == {"gpu", "gpu_rt", "embree"}
     assert sum(c.renderer == "embree" for c in configs) == 9
-    assert len(configs) == 77 + 48 + 24
+    assert len(configs) == 77 + 72 + 24
 
 
 def test_the_scene_size_profile_runs_the_gpu_bvh_in_every_variant_at_every_count():

@@ -82,4 +82,12 @@ FrameConstants makeFrameConstants(const ShadingParams& shading, std::uint32_t sp
   // clang-format on
 }
 
+std::vector<glm::uvec2> toGpuGridCells(const SphereGrid& grid) {
+  std::vector<glm::uvec2> cells(grid.cellCount());
+  for (std::size_t n = 0; n < cells.size(); ++n) {
+    cells[n] = glm::uvec2(grid.cellFirst[n], grid.cellFirst[n + 1] - grid.cellFirst[n]);
+  }
+  return cells;
+}
+
 }  // namespace rt::gpu

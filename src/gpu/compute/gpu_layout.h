@@ -4,6 +4,7 @@
 // side that is not made on the other fails to compile.
 #include <cstddef>
 #include <cstdint>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 #include <span>
@@ -11,6 +12,7 @@
 
 #include "gpu_interface.h"
 #include "render/accel/bvh.h"
+#include "render/accel/sphere_grid.h"
 #include "render/accel/wide_bvh.h"
 #include "render/shading_params.h"
 #include "scene/camera.h"
@@ -125,6 +127,10 @@ struct SpecializationConstants {
   std::int32_t stage = RT_STAGE_MEGAKERNEL;
   std::uint32_t counters = 0;                        // VkBool32: --counters
   std::int32_t bvhStackSize = RT_BVH_MAX_DEPTH + 2;  // entries the binary walk's stack needs
+  std::uint32_t grid = 0;                            // VkBool32: --gpu-bvh grid
+  float gridOrigin[3] = {0.0f, 0.0f, 0.0f};          // rt::SphereGrid's origin, cellSize and cells
+  float gridCellSize = 1.0f;
+  std::int32_t gridCells[3] = {1, 1, 1};
 };
 
 // The binary walk pushes at most one child per level of the tree on its way
@@ -134,6 +140,10 @@ constexpr std::int32_t binaryStackSize(const Bvh& bvh) { return bvh.depth + 2; }
 // The wide walk pushes at most kWideBvhWidth - 1 children per level of the
 // tree on its way down (shaders/nearest_hit.glsl).
 constexpr std::int32_t wideStackSize(const WideBvh& wide) { return (kWideBvhWidth - 1) * (wide.depth + 1) + 1; }
+
+// --gpu-bvh grid: a cell as the shader reads it, its first slot and its
+// sphere count.
+std::vector<glm::uvec2> toGpuGridCells(const SphereGrid& grid);
 
 std::vector<GPUSphere> toGpuSpheres(std::span<const Sphere> spheres);
 

@@ -18,6 +18,7 @@
 #include "gpu/vulkan/context.h"
 #include "gpu/vulkan/frame_commands.h"
 #include "render/accel/bvh.h"
+#include "render/accel/sphere_grid.h"
 #include "render/accel/wide_bvh.h"
 #include "scene/camera.h"
 
@@ -28,7 +29,7 @@ using PipelineStage = vk::PipelineStageFlagBits;
 using Access = vk::AccessFlagBits;
 
 SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh,
-                                          const WideBvh* wide) {
+                                          const WideBvh* wide, const SphereGrid* grid) {
   SpecializationConstants constants{.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
                                     .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
                                     .maxDepth = scene.render.maxDepth};
@@ -41,6 +42,14 @@ SpecializationConstants specializationFor(const Scene& scene, const RenderOption
   if (wide) {
     constants.wideBvh = VK_TRUE;
     constants.wideStackSize = wideStackSize(*wide);
+  }
+  if (grid) {
+    constants.grid = VK_TRUE;
+    for (int axis = 0; axis < 3; ++axis) {
+      constants.gridOrigin[axis] = grid->origin[axis];
+      constants.gridCells[axis] = grid->cells[axis];
+    }
+    constants.gridCellSize = grid->cellSize;
   }
   constants.persistent = options.gpuSchedule == GpuSchedule::persistent ? VK_TRUE : VK_FALSE;
   constants.counters = options.counters ? VK_TRUE : VK_FALSE;
@@ -182,20 +191,24 @@ AccelStructure accelFor(const Scene& scene, const RenderOptions& options) {
   return accel;
 }
 
-// The BVH's nodes and sphere order on the device (--accel bvh only), and
-// the spheres of the leaves of the tree walked in leaf order. The binary
-// walk's boxes come widened by the scene's traversal pad.
+// The walk's structure on the device (--accel bvh only): the binary tree's
+// nodes (its boxes widened by the scene's traversal pad) or the grid's
+// cells; the scene index of each slot the binary walk or the grid tests
+// (the wide walk's are WideBvhBuffers'); and the slots' spheres.
 struct BvhBuffers {
-  BvhBuffers(const Device& device, CommandRunner& runner, const Bvh& bvh, const Scene& scene, const WideBvh* wide)
-      : nodes(uploadStorage(device, runner,
-                            std::span<const GpuBinaryNode>(
-                                toGpuBinaryNodes(bvh, sceneTraversalPad(bvh, cameraMaxCoordinate(scene.camera)))))),
-        order(uploadStorage(device, runner, std::span(bvh.order))),
+  BvhBuffers(const Device& device, CommandRunner& runner, const Bvh& bvh, const Scene& scene, const WideBvh* wide,
+             const SphereGrid* grid)
+      : nodes(grid ? uploadStorage(device, runner, std::span<const glm::uvec2>(toGpuGridCells(*grid)))
+                   : uploadStorage(device, runner,
+                                   std::span<const GpuBinaryNode>(toGpuBinaryNodes(
+                                       bvh, sceneTraversalPad(bvh, cameraMaxCoordinate(scene.camera)))))),
+        order(uploadStorage(device, runner, std::span(grid ? grid->slots : bvh.order))),
         leafSpheres(
             uploadStorage(device, runner,
-                          std::span<const glm::vec4>(wide ? gpu::leafSpheres(scene.spheres, std::span(wide->index))
-                                                          : gpu::leafSpheres(scene.spheres, std::span(bvh.order))))) {}
-  Buffer nodes;
+                          std::span<const glm::vec4>(
+                              wide ? gpu::leafSpheres(scene.spheres, std::span(wide->index))
+                                   : gpu::leafSpheres(scene.spheres, std::span(grid ? grid->slots : bvh.order))))) {}
+  Buffer nodes;  // the grid's cells with the grid
   Buffer order;
   Buffer leafSpheres;
 };
@@ -212,6 +225,13 @@ struct WideBvhBuffers {
 std::optional<WideBvh> wideBvhFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
   if (!bvh || options.gpuBvh != GpuBvh::wide) return std::nullopt;
   return buildWideBvh(*bvh, scene.spheres);
+}
+
+// --gpu-bvh grid: each cell lists the spheres whose surface passes within
+// the scene's traversal pad of it (docs/render-model.md section 3, "The grid").
+std::optional<SphereGrid> gridFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
+  if (!bvh || options.gpuBvh != GpuBvh::grid) return std::nullopt;
+  return buildSphereGrid(scene.spheres, sceneTraversalPad(*bvh, cameraMaxCoordinate(scene.camera)));
 }
 
 constexpr vk::DeviceSize kCounterBytes =
@@ -302,9 +322,12 @@ struct GPURenderer::SceneObjects {
         extent(e),
         accel(accelFor(s, o)),
         wide(wideBvhFor(s, o, accel.bvh())),
-        pipeline(d, o.precision, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr), stagesOf(o.gpuPath)),
+        grid(gridFor(s, o, accel.bvh())),
+        pipeline(d, o.precision, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr, grid ? &*grid : nullptr),
+                 stagesOf(o.gpuPath)),
         spheres(uploadStorage(d, runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
-        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s, wide ? &*wide : nullptr)
+        bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s, wide ? &*wide : nullptr,
+                                                                grid ? &*grid : nullptr)
                                : std::nullopt),
         wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d, runner, *wide) : std::nullopt),
         counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d) : std::nullopt),
@@ -317,8 +340,9 @@ struct GPURenderer::SceneObjects {
   RenderOptions options;
   ShadingParams shading;  // the push constants' scene part, built once per scene
   Extent extent;
-  AccelStructure accel;         // the BVH with --accel bvh; its bounds went into the pipeline
-  std::optional<WideBvh> wide;  // --gpu-bvh wide only
+  AccelStructure accel;            // the BVH with --accel bvh; its bounds went into the pipeline
+  std::optional<WideBvh> wide;     // --gpu-bvh wide only
+  std::optional<SphereGrid> grid;  // --gpu-bvh grid only
   RaytracePipeline pipeline;
   Buffer spheres;
   std::optional<BvhBuffers> bvhBuffers;  // --accel bvh only
@@ -338,6 +362,7 @@ struct GPURenderer::SceneObjects {
       buffers.bvhNodes = bvhBuffers->nodes.handle();
       buffers.bvhOrder = bvhBuffers->order.handle();
       buffers.leafSpheres = bvhBuffers->leafSpheres.handle();
+      if (grid) buffers.gridCells = bvhBuffers->nodes.handle();
     }
     if (wideBuffers) {
       buffers.wideNodes = wideBuffers->nodes.handle();
@@ -443,6 +468,12 @@ RendererInfo GPURenderer::info() const {
   info.lanes = 0;
   if (!scene_) return info;
   info.accelStructure = scene_->accel.info();
+  if (scene_->grid && info.accelStructure) {
+    // The grid is built from the tree's bounds: its cells stand for the nodes, and it has no depth.
+    info.accelStructure->buildMs += scene_->grid->buildMs;
+    info.accelStructure->nodes = scene_->grid->cellCount();
+    info.accelStructure->depth = std::nullopt;
+  }
   if (scene_->accel.bvh()) info.gpuBvh = scene_->options.gpuBvh;
   info.gpuSchedule = scene_->options.gpuSchedule;
   info.gpuPath = scene_->options.gpuPath;

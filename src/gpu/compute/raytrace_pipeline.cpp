@@ -11,10 +11,10 @@ namespace rt::gpu {
 namespace {
 
 // Every binding but the output image is a storage buffer, in SceneBuffers' order.
-constexpr std::array<std::uint32_t, 12> kStorageBufferSlots{
-    RT_BINDING_SPHERES,    RT_BINDING_BVH_NODES, RT_BINDING_BVH_ORDER,  RT_BINDING_WIDE_NODES,
-    RT_BINDING_WIDE_INDEX, RT_BINDING_COUNTERS,  RT_BINDING_QUEUE_EVEN, RT_BINDING_QUEUE_ODD,
-    RT_BINDING_PATH_STATE, RT_BINDING_SEGMENTS,  RT_BINDING_CONTROL,    RT_BINDING_LEAF_SPHERES};
+constexpr std::array<std::uint32_t, 13> kStorageBufferSlots{
+    RT_BINDING_SPHERES,  RT_BINDING_BVH_NODES,    RT_BINDING_BVH_ORDER, RT_BINDING_WIDE_NODES, RT_BINDING_WIDE_INDEX,
+    RT_BINDING_COUNTERS, RT_BINDING_QUEUE_EVEN,   RT_BINDING_QUEUE_ODD, RT_BINDING_PATH_STATE, RT_BINDING_SEGMENTS,
+    RT_BINDING_CONTROL,  RT_BINDING_LEAF_SPHERES, RT_BINDING_GRID_CELLS};
 constexpr std::uint32_t kStorageBufferBindings = kStorageBufferSlots.size();
 static_assert(sizeof(SceneBuffers) == kStorageBufferBindings * sizeof(vk::Buffer));
 
@@ -37,7 +37,7 @@ constexpr auto kBindings = bindings();
 constexpr vk::PushConstantRange kPushConstants{
     .stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = sizeof(FrameConstants)};
 
-constexpr std::array<vk::SpecializationMapEntry, 12> kSpecializationEntries{{
+constexpr std::array<vk::SpecializationMapEntry, 20> kSpecializationEntries{{
     {RT_SPEC_TWO_PASS, offsetof(SpecializationConstants, twoPass), sizeof(std::uint32_t)},
     {RT_SPEC_BOUNCE_EXIT, offsetof(SpecializationConstants, bounceExit), sizeof(std::uint32_t)},
     {RT_SPEC_MAX_DEPTH, offsetof(SpecializationConstants, maxDepth), sizeof(std::int32_t)},
@@ -50,6 +50,15 @@ constexpr std::array<vk::SpecializationMapEntry, 12> kSpecializationEntries{{
     {RT_SPEC_STAGE, offsetof(SpecializationConstants, stage), sizeof(std::int32_t)},
     {RT_SPEC_COUNTERS, offsetof(SpecializationConstants, counters), sizeof(std::uint32_t)},
     {RT_SPEC_BVH_STACK_SIZE, offsetof(SpecializationConstants, bvhStackSize), sizeof(std::int32_t)},
+    {RT_SPEC_GRID, offsetof(SpecializationConstants, grid), sizeof(std::uint32_t)},
+    {RT_SPEC_GRID_ORIGIN_X, offsetof(SpecializationConstants, gridOrigin), sizeof(float)},
+    {RT_SPEC_GRID_ORIGIN_Y, offsetof(SpecializationConstants, gridOrigin) + sizeof(float), sizeof(float)},
+    {RT_SPEC_GRID_ORIGIN_Z, offsetof(SpecializationConstants, gridOrigin) + 2 * sizeof(float), sizeof(float)},
+    {RT_SPEC_GRID_CELL_SIZE, offsetof(SpecializationConstants, gridCellSize), sizeof(float)},
+    {RT_SPEC_GRID_CELLS_X, offsetof(SpecializationConstants, gridCells), sizeof(std::int32_t)},
+    {RT_SPEC_GRID_CELLS_Y, offsetof(SpecializationConstants, gridCells) + sizeof(std::int32_t), sizeof(std::int32_t)},
+    {RT_SPEC_GRID_CELLS_Z, offsetof(SpecializationConstants, gridCells) + 2 * sizeof(std::int32_t),
+     sizeof(std::int32_t)},
 }};
 
 vk::raii::DescriptorSetLayout createSetLayout(const Device& device) {
@@ -142,9 +151,9 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
     return vk::DescriptorBufferInfo{.buffer = buffer, .offset = 0, .range = VK_WHOLE_SIZE};
   };
   const std::array<vk::Buffer, kStorageBufferBindings> handles{
-      buffers.spheres,    buffers.bvhNodes, buffers.bvhOrder,  buffers.wideNodes,
-      buffers.wideIndex,  buffers.counters, buffers.queueEven, buffers.queueOdd,
-      buffers.pathStates, buffers.segments, buffers.control,   buffers.leafSpheres};
+      buffers.spheres,  buffers.bvhNodes,    buffers.bvhOrder, buffers.wideNodes,  buffers.wideIndex,
+      buffers.counters, buffers.queueEven,   buffers.queueOdd, buffers.pathStates, buffers.segments,
+      buffers.control,  buffers.leafSpheres, buffers.gridCells};
   std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{};
   for (std::size_t i = 0; i < kStorageBufferBindings; ++i) bufferInfos[i] = whole(handles[i]);
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};

@@ -68,10 +68,12 @@ struct SceneBuffers {
   vk::Buffer segments;
   vk::Buffer control;
   vk::Buffer leafSpheres;
+  vk::Buffer gridCells;
 
   // Every slot naming `spheres`, for the others to be set.
   static SceneBuffers allSpheres(vk::Buffer spheres) {
-    return {spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres};
+    return {spheres, spheres, spheres, spheres, spheres, spheres, spheres,
+            spheres, spheres, spheres, spheres, spheres, spheres};
   }
 };
 

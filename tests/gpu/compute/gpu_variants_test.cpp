@@ -15,7 +15,9 @@
 #include "gpu/vulkan/device.h"
 #include "render/accel/accel_scenes.h"
 #include "render/accel/bvh.h"
+#include "render/accel/sphere_grid.h"
 #include "render/render_test_support.h"
+#include "scene/camera.h"
 #include "test_support.h"
 
 namespace rt::test {
@@ -44,7 +46,8 @@ std::vector<GpuVariant> allVariants() {
     for (const GpuPath path : {GpuPath::megakernel, GpuPath::wavefront}) {
       if (schedule != GpuSchedule::pixel || path != GpuPath::megakernel)
         variants.push_back({Accel::none, GpuBvh::binary, schedule, path});
-      for (const GpuBvh bvh : {GpuBvh::binary, GpuBvh::wide}) variants.push_back({Accel::bvh, bvh, schedule, path});
+      for (const GpuBvh bvh : {GpuBvh::binary, GpuBvh::wide, GpuBvh::grid})
+        variants.push_back({Accel::bvh, bvh, schedule, path});
     }
   }
   return variants;
@@ -247,6 +250,23 @@ TEST_F(GpuVariants, TheBinaryWalksTreeHasOneSpherePerLeaf) {
   renderFrame(gpu, scene, {16, 16}, options, kFrame);
   ASSERT_TRUE(gpu.info().accelStructure.has_value());
   EXPECT_EQ(gpu.info().accelStructure->nodes, buildBvh(scene.spheres).nodes.size());
+}
+
+// The grid is sized from the spheres and the scene's traversal pad, as the
+// build alone sizes it; its cells stand for the nodes, and it has no depth.
+TEST_F(GpuVariants, TheGridReportsItsCellsAsItsNodes) {
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  const Scene scene = loadNamedScene("random1000");
+  RenderOptions options = optionsForStage(Stage::optimized);
+  options.accel = Accel::bvh;
+  options.gpuBvh = GpuBvh::grid;
+  renderFrame(gpu, scene, {16, 16}, options, kFrame);
+  EXPECT_EQ(gpu.info().gpuBvh, GpuBvh::grid);
+  ASSERT_TRUE(gpu.info().accelStructure.has_value());
+  const Bvh bvh = buildBvh(scene.spheres, kSingleSphereLeaves);
+  const SphereGrid grid = buildSphereGrid(scene.spheres, sceneTraversalPad(bvh, cameraMaxCoordinate(scene.camera)));
+  EXPECT_EQ(gpu.info().accelStructure->nodes, grid.cellCount());
+  EXPECT_FALSE(gpu.info().accelStructure->depth.has_value());
 }
 
 }  // namespace

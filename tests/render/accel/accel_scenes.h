@@ -76,6 +76,20 @@ inline std::vector<NamedScene> adversarialScenes() {
   scenes.push_back({"touching", withSpheres(touching)});
   scenes.push_back({"huge-around-small", skyAroundSmallSpheres()});
   scenes.push_back({"camera-inside", cameraInsideSky()});
+  // Centres and tangents on the planes of a grid of power-of-two cells
+  // (render/accel/sphere_grid.h): spheres of radius 1 at even coordinates
+  // touch their neighbours on odd planes, and eight at odd coordinates
+  // touch even planes.
+  std::vector<Sphere> onPlanes;
+  for (int i = 0; i < 27; ++i) {
+    const glm::vec3 p(static_cast<float>(2 * (i % 3 - 1)), static_cast<float>(2 * (i / 3 % 3 - 1)),
+                      static_cast<float>(2 * (i / 9 - 1)));
+    onPlanes.push_back({p, 1, i % 2 ? red : grey});
+  }
+  for (int i = 0; i < 8; ++i) {
+    onPlanes.push_back({{i & 1 ? 1.0f : -1.0f, i & 2 ? 1.0f : -1.0f, i & 4 ? 1.0f : -1.0f}, 1, blue});
+  }
+  scenes.push_back({"on-cell-planes", withSpheres(onPlanes)});
   scenes.push_back({"random1000", withSpheres(randomSpheres(1000, 12, 0.4f))});
   return scenes;
 }
