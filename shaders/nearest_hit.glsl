@@ -357,6 +357,11 @@ float gridPlaneDistance(int k, float gridOrigin, float origin, float inverse) {
 // test hits at t is listed by a cell the ray crosses near t: the cells
 // before the stop hold every sphere nearer than the best hit, and an exact
 // tie still goes to the lower index (docs/render-model.md section 3).
+// One loop iteration tests one sphere or steps into one cell, so that the
+// invocations of a subgroup whose cells list different numbers of spheres
+// go on together instead of each cell waiting for the subgroup's longest
+// list: 1.11x faster at 10,000 spheres on the H200 than a sphere loop
+// inside the cell loop (docs/render-model.md section 3).
 RaycastHit nearestHitInGrid(Ray ray) {
   vec3 origin = toFloat3(ray.origin);
   vec3 inverse = inverseDirection(toFloat3(ray.direction));
@@ -379,12 +384,18 @@ RaycastHit nearestHitInGrid(Ray ray) {
                    gridPlaneDistance(cell.z + ahead.z, gridOrigin.z, origin.z, inverse.z));
   int number = (cell.z * cells.y + cell.y) * cells.x + cell.x;
   ivec3 stride = step * ivec3(1, cells.x, cells.x * cells.y);
+  uvec2 listed = gridCells[number];  // first slot, sphere count
+  uint slot = listed.x;
+  uint end = listed.x + listed.y;
+  if (COUNTERS) ++searchNodes;
   while (true) {
-    if (COUNTERS) ++searchNodes;
-    uvec2 listed = gridCells[number];
-    if (listed.y != 0u) testLeaf(ray, listed.x, listed.y);
-    float exit = min(min(next.x, next.y), next.z);
-    if (exit > searchBest + pad) break;
+    if (slot < end) {
+      if (COUNTERS) ++searchSpheres;
+      testLeafSphere(ray, slot);
+      ++slot;
+      continue;
+    }
+    if (min(min(next.x, next.y), next.z) > searchBest + pad) break;
     if (next.x <= next.y && next.x <= next.z) {
       cell.x += step.x;
       if (uint(cell.x) >= uint(cells.x)) break;
@@ -401,6 +412,10 @@ RaycastHit nearestHitInGrid(Ray ray) {
       number += stride.z;
       next.z = gridPlaneDistance(cell.z + ahead.z, gridOrigin.z, origin.z, inverse.z);
     }
+    listed = gridCells[number];
+    slot = listed.x;
+    end = listed.x + listed.y;
+    if (COUNTERS) ++searchNodes;
   }
   return hitRecord(ray, toReal(searchBest), searchBestIndex);
 }
