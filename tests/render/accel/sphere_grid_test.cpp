@@ -74,8 +74,7 @@ TEST(SphereGrid, EveryCellTheWidenedSurfaceCrossesListsTheSphere) {
         for (const double off : {-kMargin, 0.0f, kMargin}) {
           const glm::dvec3 p = glm::dvec3(s.position) + direction * (static_cast<double>(s.radius) + off);
           const glm::ivec3 cell(glm::floor((p - glm::dvec3(grid.origin)) / static_cast<double>(grid.cellSize)));
-          ASSERT_TRUE(glm::all(glm::greaterThanEqual(cell, glm::ivec3(0))) &&
-                      glm::all(glm::lessThan(cell, grid.cells)))
+          ASSERT_TRUE(glm::all(glm::greaterThanEqual(cell, glm::ivec3(0))) && glm::all(glm::lessThan(cell, grid.cells)))
               << name << " sphere " << i << ": a surface point outside the grid";
           EXPECT_TRUE(lists(grid, cellNumber(grid, cell), i)) << name << " sphere " << i << " point " << k;
         }
