@@ -227,6 +227,12 @@ std::optional<WideBvh> wideBvhFor(const Scene& scene, const RenderOptions& optio
   return buildWideBvh(*bvh, scene.spheres);
 }
 
+// What the grid takes on the device: its cells, and each slot's sphere and
+// scene index.
+std::uint64_t gridDeviceBytes(const SphereGrid& grid) {
+  return grid.cellCount() * sizeof(glm::uvec2) + grid.slots.size() * (sizeof(glm::vec4) + sizeof(std::uint32_t));
+}
+
 // --gpu-bvh grid: each cell lists the spheres whose surface passes within
 // the scene's traversal pad of it (docs/render-model.md section 3, "The grid").
 std::optional<SphereGrid> gridFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
@@ -470,9 +476,11 @@ RendererInfo GPURenderer::info() const {
   info.accelStructure = scene_->accel.info();
   if (scene_->grid && info.accelStructure) {
     // The grid is built from the tree's bounds: its cells stand for the nodes, and it has no depth.
-    info.accelStructure->buildMs += scene_->grid->buildMs;
-    info.accelStructure->nodes = scene_->grid->cellCount();
+    const SphereGrid& grid = *scene_->grid;
+    info.accelStructure->buildMs += grid.buildMs;
+    info.accelStructure->nodes = grid.cellCount();
     info.accelStructure->depth = std::nullopt;
+    info.accelStructure->deviceBytes = gridDeviceBytes(grid);
   }
   if (scene_->accel.bvh()) info.gpuBvh = scene_->options.gpuBvh;
   info.gpuSchedule = scene_->options.gpuSchedule;

@@ -267,6 +267,8 @@ TEST_F(GpuVariants, TheGridReportsItsCellsAsItsNodes) {
   const SphereGrid grid = buildSphereGrid(scene.spheres, sceneTraversalPad(bvh, cameraMaxCoordinate(scene.camera)));
   EXPECT_EQ(gpu.info().accelStructure->nodes, grid.cellCount());
   EXPECT_FALSE(gpu.info().accelStructure->depth.has_value());
+  // Its cells (first slot, count) and each slot's sphere (vec4) and index.
+  EXPECT_EQ(gpu.info().accelStructure->deviceBytes, grid.cellCount() * 8 + grid.slots.size() * 20);
 }
 
 }  // namespace
