@@ -517,9 +517,9 @@ def _gpu_variants_section(by_slug: dict[str, tables.Table]) -> str:
 
 
 GPU_VARIANTS_TITLE = "GPU traversal variants"
-GPU_VARIANTS_TEXT = """The GPU renderer in each of its variants: the BVH its shader walks
-(`binary`, `wide`: the 8-wide tree, or `grid`: a uniform grid of cells, no
-tree), how its invocations get their rays
+GPU_VARIANTS_TEXT = """The GPU renderer in each of its variants: the structure its shader walks
+(`binary`, `wide`: the 8-wide tree, or `grid`: a uniform grid of cells, which
+is not a tree), how its invocations get their rays
 (`pixel`: one per pixel; `persistent`: persistent threads fetching rays from
 a global counter) and the path (`megakernel`: one dispatch follows every
 bounce; `wavefront`: one dispatch per bounce depth over a compacted queue of
