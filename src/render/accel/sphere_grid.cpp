@@ -1,7 +1,6 @@
 #include "render/accel/sphere_grid.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <glm/common.hpp>
@@ -68,36 +67,36 @@ void forEachCellOf(const Sphere& s, double margin, const SphereGrid& grid, Visit
   }
 }
 
-}  // namespace
-
-float sphereGridCellSize(std::span<const Sphere> spheres, SphereGridRule rule) {
-  if (spheres.empty()) return 1.0f;
-  const Bounds b = sphereBounds(spheres);
+// The side of the cells (SphereGridRule), raised where a cell plane k * side
+// would lie more than 2^23 sides from zero (k * side stays an exact float
+// to 2^24): a grid far from the origin gets coarser cells, never inexact
+// planes.
+double cellSizeFor(const Bounds& b, std::size_t count, SphereGridRule rule) {
   const glm::dvec3 extent = glm::max(b.hi - b.lo, glm::dvec3(1e-30));
-  const double n = static_cast<double>(spheres.size());
+  const double n = static_cast<double>(count);
   const double side = std::cbrt(extent.x * extent.y * extent.z * rule.spheresPerCell / n);
   double cellSize = std::exp2(std::round(std::log2(side)));
   const double maxCells = rule.maxCellsPerSphere * n + 64.0;
-  while (cellsFor(b, cellSize) > maxCells) cellSize *= 2.0;
-  return static_cast<float>(cellSize);
+  const glm::dvec3 far = glm::max(glm::abs(b.lo), glm::abs(b.hi));
+  const double farthest = std::max({far.x, far.y, far.z});
+  while (cellsFor(b, cellSize) > maxCells || farthest / cellSize + 2.0 > 0x1p23) cellSize *= 2.0;
+  return cellSize;
 }
+
+}  // namespace
 
 SphereGrid buildSphereGrid(std::span<const Sphere> spheres, float margin, SphereGridRule rule) {
   const auto start = std::chrono::steady_clock::now();
   SphereGrid grid;
-  grid.cellSize = sphereGridCellSize(spheres, rule);
-  const double h = grid.cellSize;
-  const double widened = static_cast<double>(margin) + h * 0x1p-8;
+  double widened = margin;
   if (!spheres.empty()) {
     const Bounds b = sphereBounds(spheres);
+    const double h = cellSizeFor(b, spheres.size(), rule);
+    widened += h * 0x1p-8;
     const glm::dvec3 lo = glm::floor((b.lo - widened) / h) * h;
-    const glm::dvec3 cells = glm::floor((b.hi + widened - lo) / h) + 1.0;
-    // Every plane an exact float: at most 2^24 cells from zero per axis.
-    if (glm::any(glm::greaterThan(glm::abs(lo / h) + cells, glm::dvec3(0x1p24)))) {
-      throw std::runtime_error("the sphere grid would need cell planes past float precision");
-    }
+    grid.cellSize = static_cast<float>(h);
     grid.origin = glm::vec3(lo);
-    grid.cells = glm::ivec3(cells);
+    grid.cells = glm::ivec3(glm::floor((b.hi + widened - lo) / h) + 1.0);
   }
   std::vector<std::uint32_t> counts(grid.cellCount() + 1, 0u);
   for (const Sphere& s : spheres) forEachCellOf(s, widened, grid, [&](std::size_t cell) { ++counts[cell]; });

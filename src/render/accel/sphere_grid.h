@@ -36,7 +36,8 @@ struct SphereGrid {
 // the side of a cube that holds `spheresPerCell` sphere centres on average
 // over the spheres' bounding box; doubled while the grid would hold more
 // than `maxCellsPerSphere` cells per sphere (a scene of a few far-apart
-// spheres).
+// spheres) or a cell plane would lie more than 2^23 cells from zero (where
+// planes stop being exact floats).
 struct SphereGridRule {
   double spheresPerCell = 1.0;
   double maxCellsPerSphere = 32.0;
@@ -48,8 +49,5 @@ struct SphereGridRule {
 // that lists it. The build adds 2^-8 of a cell on top, for the shader's
 // float steps from cell to cell.
 SphereGrid buildSphereGrid(std::span<const Sphere> spheres, float margin, SphereGridRule rule = {});
-
-// The side the build gives the cells (exposed for tests).
-float sphereGridCellSize(std::span<const Sphere> spheres, SphereGridRule rule);
 
 }  // namespace rt

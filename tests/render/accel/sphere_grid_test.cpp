@@ -127,7 +127,25 @@ TEST(SphereGrid, SizesItsCellsFromTheSpheresAndTheRule) {
   const SphereGridRule rule{.spheresPerCell = 1.0, .maxCellsPerSphere = 8.0};
   const SphereGrid sparse = buildSphereGrid(apart, kMargin, rule);
   EXPECT_LE(static_cast<double>(sparse.cellCount()), rule.maxCellsPerSphere * 2 + 64);
-  EXPECT_EQ(sparse.slots.size() >= 2, true);
+  // A sphere smaller than a cell crosses at most 2 x 2 x 2 of them.
+  EXPECT_GE(sparse.slots.size(), 2u);
+  EXPECT_LE(sparse.slots.size(), 16u);
+}
+
+// Spheres far from the origin get cells coarse enough that every plane is
+// still an exact float (at most 2^24 cells from zero), and tiny spheres
+// there are still listed where their surface lies.
+TEST(SphereGrid, StaysExactFarFromTheOrigin) {
+  std::vector<Sphere> far;
+  for (int i = 0; i < 50; ++i) far.push_back({{1e7f + static_cast<float>(i) * 0.01f, 3e6f, -2e6f}, 1e-3f, {1, 1, 1}});
+  const SphereGrid grid = buildSphereGrid(far, kMargin);
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_LE(std::abs(grid.origin[axis] / grid.cellSize) + static_cast<float>(grid.cells[axis]), 0x1p24f) << axis;
+  }
+  for (std::uint32_t i = 0; i < far.size(); ++i) {
+    const glm::ivec3 cell(glm::floor((glm::dvec3(far[i].position) - glm::dvec3(grid.origin)) / double(grid.cellSize)));
+    EXPECT_TRUE(lists(grid, cellNumber(grid, cell), i)) << i;
+  }
 }
 
 }  // namespace
