@@ -475,7 +475,7 @@ RendererInfo GPURenderer::info() const {
   if (!scene_) return info;
   info.accelStructure = scene_->accel.info();
   if (scene_->grid && info.accelStructure) {
-    // The grid is built from the tree's bounds: its cells stand for the nodes, and it has no depth.
+    // The tree only sized the traversal pad: the grid's cells stand for the nodes, and it has no depth.
     const SphereGrid& grid = *scene_->grid;
     info.accelStructure->buildMs += grid.buildMs;
     info.accelStructure->nodes = grid.cellCount();
