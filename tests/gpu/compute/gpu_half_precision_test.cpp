@@ -124,6 +124,8 @@ TEST_F(GpuHalfPrecision, EveryPathAndBvhGivesTheSameImage) {
     variants.emplace_back("binary BVH", options);
     options.gpuBvh = GpuBvh::wide;
     variants.emplace_back("wide BVH", options);
+    options.gpuBvh = GpuBvh::grid;
+    variants.emplace_back("grid", options);
     for (const auto& [label, variant] : variants) {
       EXPECT_TRUE(std::ranges::equal(megakernel.pixels(), renderFrameZero(scene, variant).pixels()))
           << label << " " << nameOf(stage);
