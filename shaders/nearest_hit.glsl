@@ -368,13 +368,12 @@ RaycastHit nearestHitInGrid(Ray ray) {
   float pad = traversalPad(origin);
   vec3 gridOrigin = vec3(GRID_ORIGIN_X, GRID_ORIGIN_Y, GRID_ORIGIN_Z);
   ivec3 cells = ivec3(GRID_CELLS_X, GRID_CELLS_Y, GRID_CELLS_Z);
-  vec3 t0 = (gridOrigin - origin) * inverse;
-  vec3 t1 = (gridOrigin + vec3(cells) * GRID_CELL_SIZE - origin) * inverse;
-  vec3 near = min(t0, t1);
-  vec3 far = max(t0, t1);
-  float enter = max(max(near.x, near.y), near.z);
-  float leave = min(min(far.x, far.y), far.z);
-  if (enter > leave || leave < -pad) return hitRecord(ray, toReal(searchBest), searchBestIndex);
+  // The grid's box reaches past every listed sphere's surface by the margin,
+  // as a binary node's box past its spheres: the same slab test clips the ray.
+  float enter;
+  if (!boxReachable(gridOrigin, gridOrigin + vec3(cells) * GRID_CELL_SIZE, ray, inverse, pad, enter)) {
+    return hitRecord(ray, toReal(searchBest), searchBestIndex);
+  }
   vec3 start = enter > 0.0 ? origin + enter * toFloat3(ray.direction) : origin;
   ivec3 cell = clamp(ivec3(floor((start - gridOrigin) * (1.0 / GRID_CELL_SIZE))), ivec3(0), cells - 1);
   ivec3 step = ivec3(greaterThanEqual(inverse, vec3(0.0))) * 2 - 1;

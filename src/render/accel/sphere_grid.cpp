@@ -59,9 +59,7 @@ void forEachCellOf(const Sphere& s, double margin, const SphereGrid& grid, Visit
         if (glm::dot(toNearest, toNearest) > outer * outer) continue;
         const glm::dvec3 farthest = glm::max(glm::abs(lo - c), glm::abs(hi - c));
         if (inner > 0.0 && glm::dot(farthest, farthest) < inner * inner) continue;
-        visit((static_cast<std::size_t>(z) * static_cast<std::size_t>(grid.cells.y) + static_cast<std::size_t>(y)) *
-                  static_cast<std::size_t>(grid.cells.x) +
-              static_cast<std::size_t>(x));
+        visit(grid.cellNumber({x, y, z}));
       }
     }
   }

@@ -30,6 +30,12 @@ struct SphereGrid {
   [[nodiscard]] std::size_t cellCount() const {
     return static_cast<std::size_t>(cells.x) * static_cast<std::size_t>(cells.y) * static_cast<std::size_t>(cells.z);
   }
+  // The number of cell (x, y, z), as above (and as the shader numbers it).
+  [[nodiscard]] std::size_t cellNumber(glm::ivec3 cell) const {
+    return (static_cast<std::size_t>(cell.z) * static_cast<std::size_t>(cells.y) + static_cast<std::size_t>(cell.y)) *
+               static_cast<std::size_t>(cells.x) +
+           static_cast<std::size_t>(cell.x);
+  }
 };
 
 // How the build sizes the cells: the power of two nearest (in log scale) to

@@ -20,13 +20,6 @@ namespace {
 
 constexpr float kMargin = 0.01f;
 
-std::size_t cellNumber(const SphereGrid& grid, glm::ivec3 cell) {
-  return (static_cast<std::size_t>(cell.z) * static_cast<std::size_t>(grid.cells.y) +
-          static_cast<std::size_t>(cell.y)) *
-             static_cast<std::size_t>(grid.cells.x) +
-         static_cast<std::size_t>(cell.x);
-}
-
 bool lists(const SphereGrid& grid, std::size_t cell, std::uint32_t sphere) {
   const auto first = grid.slots.begin() + grid.cellFirst[cell];
   const auto last = grid.slots.begin() + grid.cellFirst[cell + 1];
@@ -76,7 +69,7 @@ TEST(SphereGrid, EveryCellTheWidenedSurfaceCrossesListsTheSphere) {
           const glm::ivec3 cell(glm::floor((p - glm::dvec3(grid.origin)) / static_cast<double>(grid.cellSize)));
           ASSERT_TRUE(glm::all(glm::greaterThanEqual(cell, glm::ivec3(0))) && glm::all(glm::lessThan(cell, grid.cells)))
               << name << " sphere " << i << ": a surface point outside the grid";
-          EXPECT_TRUE(lists(grid, cellNumber(grid, cell), i)) << name << " sphere " << i << " point " << k;
+          EXPECT_TRUE(lists(grid, grid.cellNumber(cell), i)) << name << " sphere " << i << " point " << k;
         }
       }
     }
@@ -96,7 +89,7 @@ TEST(SphereGrid, CellsListOnlySpheresWhoseSurfaceIsNear) {
     for (int z = 0; z < grid.cells.z; ++z) {
       for (int y = 0; y < grid.cells.y; ++y) {
         for (int x = 0; x < grid.cells.x; ++x) {
-          const std::size_t cell = cellNumber(grid, {x, y, z});
+          const std::size_t cell = grid.cellNumber({x, y, z});
           const auto first = grid.slots.begin() + grid.cellFirst[cell];
           const auto last = grid.slots.begin() + grid.cellFirst[cell + 1];
           EXPECT_TRUE(std::is_sorted(first, last)) << name;
@@ -144,7 +137,7 @@ TEST(SphereGrid, StaysExactFarFromTheOrigin) {
   }
   for (std::uint32_t i = 0; i < far.size(); ++i) {
     const glm::ivec3 cell(glm::floor((glm::dvec3(far[i].position) - glm::dvec3(grid.origin)) / double(grid.cellSize)));
-    EXPECT_TRUE(lists(grid, cellNumber(grid, cell), i)) << i;
+    EXPECT_TRUE(lists(grid, grid.cellNumber(cell), i)) << i;
   }
 }
 
