@@ -15,6 +15,7 @@
 
 #include "app/build_info.h"
 #include "core/sha256.h"
+#include "render/cpu_renderers.h"
 #include "rt_schema_metadata.h"
 
 namespace rt {
@@ -144,6 +145,21 @@ nlohmann::json nixJson() {
   });
 }
 
+nlohmann::json simdTargetsJson() {
+  using Key = schema::MetadataBuildSimdTargetsKey;
+  nlohmann::json targets = nlohmann::json::array();
+  for (const SimdBuildTarget& target : simdBuildTargets()) {
+    targets.push_back(objectOf<Key>(schema::kMetadataBuildSimdTargetsKeyNames, [&](Key key) -> nlohmann::json {
+      switch (key) {
+        case Key::name: return target.name;
+        case Key::f16: return target.halfPrecision;
+      }
+      unhandledKey("build.simd_targets");
+    }));
+  }
+  return targets;
+}
+
 nlohmann::json buildJson() {
   const BuildInfo& b = buildInfo();
   using Key = schema::MetadataBuildKey;
@@ -155,6 +171,7 @@ nlohmann::json buildJson() {
       case Key::build_type: return b.buildType;
       case Key::compiler: return b.compiler;
       case Key::compiler_flags: return b.compilerFlags;
+      case Key::simd_targets: return simdTargetsJson();
       case Key::nix: return nixJson();
     }
     unhandledKey("build");

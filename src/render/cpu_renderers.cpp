@@ -3,6 +3,7 @@
 #include <string>
 
 #include "render/schedule/tbb_scheduler.h"
+#include "render/simd/packet_kernels.h"
 #include "render/simd/simd_kernel.h"
 #ifdef RT_HAVE_EMBREE
 #include "render/embree/embree_kernel.h"
@@ -39,6 +40,14 @@ std::unique_ptr<Renderer> makeEmbreeRenderer(RendererKind kind, const ParallelSe
 }
 
 }  // namespace
+
+std::vector<SimdBuildTarget> simdBuildTargets() {
+  std::vector<SimdBuildTarget> targets;
+  for (const simd::CompiledTarget& t : simd::compiledTargets()) {
+    targets.push_back({simd::targetName(t.target), t.nativeF16});
+  }
+  return targets;
+}
 
 bool cpuRendererBuilt(RendererKind kind) {
   const auto& pair = definitionOf(kind);

@@ -485,21 +485,44 @@ def test_half_precision_is_refused_by_the_renderers_outside_the_experiment(raytr
     assert "--precision f16 applies to --simd, --simd-only and --gpu" in done.stderr
 
 
-def cpu_computes_in_f16(raytracer, repo_root, tmp_path) -> bool:
-    """Whether the SIMD renderers must run --precision f16 here, asked of the
-    CPU and the libraries, not of the kernel: native f16 arithmetic in the CPU
-    (x86's avx512_fp16, Arm's fphp/asimdhp) and a Highway of 1.2 or newer
-    (docs/render-model.md section 10)."""
+# The CPU features (/proc/cpuinfo flags) each Highway target with f16 kernels
+# needs: x86's avx512_fp16, Arm's FP16 arithmetic (asimdhp) and what the
+# target adds to it.
+F16_TARGET_CPU_FLAGS = {
+    "AVX3_SPR": {"avx512_fp16"},
+    "NEON": {"asimdhp"},
+    "NEON_BF16": {"asimdhp", "bf16"},
+    "SVE": {"sve"},
+    "SVE2": {"sve2"},
+}
+
+
+def cpu_flags() -> set[str]:
     flags = set()
     for line in Path("/proc/cpuinfo").read_text().splitlines():
         if line.startswith(("flags", "Features")):
             flags |= set(line.split(":", 1)[1].split())
-    if not flags & {"avx512_fp16", "asimdhp"}:
-        return False
+    return flags
+
+
+def build_simd_targets(raytracer, repo_root, tmp_path) -> dict[str, bool]:
+    """The Highway targets the binary under test was compiled for, each with
+    whether its kernels compute in f16, from its metadata (build.simd_targets):
+    what the build holds, not which target dispatch picks on this CPU."""
     done = run(raytracer, "--simd-only", repo_root / "scenes/random20.json", *SMALL, "--csv", tmp_path / "probe.csv")
     assert done.returncode == 0, done.stderr
-    hwy = json.loads((tmp_path / "probe.meta.json").read_text())["libraries"]["hwy"]
-    return tuple(int(p) for p in hwy.split(".")[:2]) >= (1, 2)
+    targets = json.loads((tmp_path / "probe.meta.json").read_text())["build"]["simd_targets"]
+    assert targets, "a build compiles the SIMD kernels for one target at least"
+    return {t["name"]: t["f16"] for t in targets}
+
+
+def cpu_computes_in_f16(built: dict[str, bool], flags: set[str]) -> bool:
+    """Whether the SIMD renderers must run --precision f16 here: the build has
+    a target with f16 kernels and this CPU has what that target needs
+    (docs/render-model.md section 10)."""
+    unknown = [name for name, f16 in built.items() if f16 and name not in F16_TARGET_CPU_FLAGS]
+    assert not unknown, f"targets with f16 kernels whose CPU flags this test does not know: {unknown}"
+    return any(f16 and F16_TARGET_CPU_FLAGS[name] <= flags for name, f16 in built.items())
 
 
 @pytest.mark.parametrize("renderer", ["--simd", "--simd-only"])
@@ -508,7 +531,8 @@ def test_the_simd_renderers_run_half_precision_exactly_where_the_cpu_computes_in
 ):
     csv_path = tmp_path / "run.csv"
     done = run(raytracer, renderer, "--precision", "f16", repo_root / "scenes/random20.json", *SMALL, "--csv", csv_path)
-    if cpu_computes_in_f16(raytracer, repo_root, tmp_path):
+    built = build_simd_targets(raytracer, repo_root, tmp_path)
+    if cpu_computes_in_f16(built, cpu_flags()):
         assert done.returncode == 0, done.stderr
         with csv_path.open(newline="") as f:
             rows = list(csv.DictReader(f))
@@ -519,6 +543,32 @@ def test_the_simd_renderers_run_half_precision_exactly_where_the_cpu_computes_in
     assert re.search(r"Highway target [A-Z0-9_]+ has no native f16 arithmetic \(Highway 1\.[0-9]+", done.stderr)
     assert "AVX3_SPR" in done.stderr and "NEON" in done.stderr
     assert not csv_path.exists(), "nothing rendered, nothing written"
+
+
+def test_the_half_precision_refusal_names_the_preset_where_the_build_left_the_cpus_f16_target_out(
+    raytracer, repo_root, tmp_path
+):
+    """A debug build (RT_SIMD_FEWER_TARGETS) on a CPU with AVX512-FP16 and a
+    Highway that computes in f16 there: the refusal says the build, not the
+    CPU, lacks the target, and names the preset that has it."""
+    built = build_simd_targets(raytracer, repo_root, tmp_path)
+    meta = json.loads((tmp_path / "probe.meta.json").read_text())
+    highway = tuple(int(p) for p in meta["libraries"]["hwy"].split(".")[:2])
+    if "avx512_fp16" not in cpu_flags() or highway < (1, 2) or "AVX3_SPR" in built:
+        pytest.skip("only where the CPU has AVX512-FP16, Highway is 1.2 or newer and the build left AVX3_SPR out")
+    done = run(raytracer, "--simd-only", "--precision", "f16", repo_root / "scenes/random20.json", *SMALL)
+    assert done.returncode == EXIT_BAD_INPUT, done.stderr
+    assert "This CPU runs AVX3_SPR, which computes in f16, but this build left that target out" in done.stderr
+    assert "the release preset has it" in done.stderr
+
+
+def test_the_metadata_lists_the_simd_targets_the_build_compiled(raytracer, repo_root, tmp_path):
+    built = build_simd_targets(raytracer, repo_root, tmp_path)
+    meta = json.loads((tmp_path / "probe.meta.json").read_text())
+    assert meta["config"]["simd_target"] in built, "dispatch picks a compiled target"
+    assert all(isinstance(f16, bool) for f16 in built.values())
+    if meta["build"]["build_type"] == "Debug" and "AVX3" in built:
+        assert "AVX3_SPR" not in built and "SSSE3" not in built, "the debug preset compiles one x86 target per width"
 
 
 # What the f16 kernel does not cover is refused on every CPU, before the CPU is asked.

@@ -8,6 +8,8 @@
 // so neither the target list nor foreach_target.h concern it.
 #include "render/simd/packet_kernels.h"
 
+#include <algorithm>
+
 #include "render/simd/kernel_targets.h"
 
 #undef HWY_TARGET_INCLUDE
@@ -22,6 +24,10 @@ namespace rt::simd::HWY_NAMESPACE {
 
 // The variants without counters; packet_kernels_counted.cc has the others.
 TargetKernels GetTargetKernels() { return HalfOfTargetKernels<0>(); }
+
+// This compile's entry in compiledTargets(): the build's own word for what
+// it holds, which a CPU without this target cannot ask of dispatch.
+[[maybe_unused]] const bool kListed = listCompiledTarget({HWY_TARGET, RT_SIMD_NATIVE_F16 != 0});
 
 }  // namespace rt::simd::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -60,6 +66,42 @@ std::string highwayVersion() {
 std::vector<std::int64_t> availableTargets() {
   std::vector<std::int64_t> targets;
   for (std::int64_t t = hwy::SupportedTargets() & HWY_TARGETS; t != 0; t &= t - 1) targets.push_back(t & -t);
+  return targets;
+}
+
+namespace {
+std::vector<CompiledTarget>& compiledTargetList() {
+  static std::vector<CompiledTarget> list;
+  return list;
+}
+
+// The targets whose kernels have f16 lanes where the build compiles them:
+// native f16 arithmetic in Highway 1.2 and newer (packet_kernel-inl.h,
+// RT_SIMD_NATIVE_F16). The x86 one is the only target a build of ours
+// leaves out (kernel_targets.h).
+constexpr std::int64_t kHalfPrecisionTargets =
+#if HWY_MAJOR > 1 || HWY_MINOR >= 2
+    HWY_AVX3_SPR;
+#else
+    0;
+#endif
+}  // namespace
+
+bool listCompiledTarget(CompiledTarget target) {
+  compiledTargetList().push_back(target);
+  return true;
+}
+
+std::vector<CompiledTarget> compiledTargets() {
+  std::vector<CompiledTarget> list = compiledTargetList();
+  std::ranges::sort(list, {}, &CompiledTarget::target);  // a lower bit is a better target
+  return list;
+}
+
+std::vector<std::int64_t> halfPrecisionTargetsLeftOut() {
+  std::vector<std::int64_t> targets;
+  const std::int64_t leftOut = hwy::SupportedTargets() & kHalfPrecisionTargets & ~HWY_TARGETS;
+  for (std::int64_t t = leftOut; t != 0; t &= t - 1) targets.push_back(t & -t);
   return targets;
 }
 

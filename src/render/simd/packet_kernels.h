@@ -122,6 +122,26 @@ std::string highwayVersion();
 // Targets compiled into the kernel that this CPU can run, best first.
 std::vector<std::int64_t> availableTargets();
 
+// A Highway target the packet kernels were compiled for.
+struct CompiledTarget {
+  std::int64_t target = 0;  // a HWY_* bit
+  bool nativeF16 = false;   // whether its kernels include the f16 lanes (docs/render-model.md section 10)
+};
+
+// Every target this build compiled the packet kernels for, best first,
+// whether or not this CPU runs it: what the build holds, recorded by each
+// target's own compile, not what dispatch picks.
+std::vector<CompiledTarget> compiledTargets();
+
+// Targets with native f16 arithmetic that this CPU runs but this build left
+// out (RT_SIMD_FEWER_TARGETS, the debug preset's): empty where the build has
+// every such target, and always before Highway 1.2.
+std::vector<std::int64_t> halfPrecisionTargetsLeftOut();
+
+// Called once by each target's compile of packet_kernels.cc (a static
+// initializer there), which is how compiledTargets() learns the list.
+bool listCompiledTarget(CompiledTarget target);
+
 // For tests: makes dispatch pick `target` while alive, then lifts the mock.
 class ScopedTargetOverride {
  public:

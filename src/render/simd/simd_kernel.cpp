@@ -30,9 +30,16 @@ simd::LaneKernels selectLanes(const simd::LaneSet& set, const std::string& targe
 // natively only from version 1.2 on, and only on the targets named
 // (docs/render-model.md section 10).
 std::string halfPrecisionRefusal(const std::string& target) {
-  return "the SIMD renderers cannot compute in half precision (--precision f16) here: this CPU's Highway target " +
-         target + " has no native f16 arithmetic (Highway " + simd::highwayVersion() +
-         "). An f16 kernel is compiled for the targets that have it from Highway 1.2 on: AVX3_SPR (AVX512-FP16, "
+  std::string refusal =
+      "the SIMD renderers cannot compute in half precision (--precision f16) here: this CPU's Highway target " +
+      target + " has no native f16 arithmetic (Highway " + simd::highwayVersion() + ").";
+  for (const std::int64_t leftOut : simd::halfPrecisionTargetsLeftOut()) {
+    refusal += " This CPU runs " + simd::targetName(leftOut) +
+               ", which computes in f16, but this build left that target out (RT_SIMD_FEWER_TARGETS, as the debug "
+               "preset builds): the release preset has it (cmake --preset release, or scripts/raytracer).";
+  }
+  return refusal +
+         " An f16 kernel is compiled for the targets that have it from Highway 1.2 on: AVX3_SPR (AVX512-FP16, "
          "Intel Xeon from Sapphire Rapids on, with GCC), NEON_BF16 (Arm CPUs with BF16), and NEON where the build "
          "enables the ARMv8.2-A FP16 extension, SVE and SVE2. "
          "--gpu --precision f16 runs the experiment where the Vulkan device offers shaderFloat16";

@@ -107,6 +107,32 @@ TEST(HalfPrecision, RefusesNamingTheTargetOrRunsTwiceAsManyLanes) {
   }
 }
 
+// The build's own list of its targets (the run metadata's
+// build.simd_targets, which the CLI tests read to know what the binary
+// holds) agrees with the kernels dispatch finds: every target this CPU runs
+// is listed, best first, with f16 exactly where its table has f16 lanes.
+TEST(HalfPrecision, TheBuildsTargetListAgreesWithTheKernelsOfEachTargetThisCpuRuns) {
+  const std::vector<simd::CompiledTarget> compiled = simd::compiledTargets();
+  ASSERT_FALSE(compiled.empty());
+  EXPECT_TRUE(std::ranges::is_sorted(compiled, {}, &simd::CompiledTarget::target)) << "best (lowest bit) first";
+  EXPECT_EQ(simdBuildTargets().size(), compiled.size());
+  for (const std::int64_t target : simd::availableTargets()) {
+    const auto listed = std::ranges::find(compiled, target, &simd::CompiledTarget::target);
+    ASSERT_NE(listed, compiled.end()) << simd::targetName(target) << " runs here but is not listed";
+    const simd::ScopedTargetOverride force(target);
+    EXPECT_EQ(listed->nativeF16, simd::dispatchedKernels().f16.nativeLanes > 0) << simd::targetName(target);
+  }
+}
+
+// A target this build left out is never one it lists.
+TEST(HalfPrecision, ATargetLeftOutIsNotOneTheBuildLists) {
+  const std::vector<simd::CompiledTarget> compiled = simd::compiledTargets();
+  for (const std::int64_t target : simd::halfPrecisionTargetsLeftOut()) {
+    EXPECT_EQ(std::ranges::find(compiled, target, &simd::CompiledTarget::target), compiled.end())
+        << simd::targetName(target);
+  }
+}
+
 // Runs where a target of this CPU computes in f16: elsewhere the test
 // above checks the refusal.
 class HalfPrecisionKernel : public ::testing::Test {
