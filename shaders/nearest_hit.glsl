@@ -128,7 +128,7 @@ void beginSearch() {
 // kernels' slab test, but on a box the upload widened already, by the pad
 // of every ray the scene traces (rt::sceneTraversalPad), which is at least
 // this ray's `pad`: widening it here, ray by ray, took 12 of a visit's
-// additions (docs/render-model.md section 3).
+// additions (docs/experiments/gpu-traversal.md).
 bool boxReachable(vec3 lo, vec3 hi, Ray ray, vec3 inverse, float pad, out float entry) {
   vec3 t0 = (lo - toFloat3(ray.origin)) * inverse;
   vec3 t1 = (hi - toFloat3(ray.origin)) * inverse;
@@ -159,7 +159,7 @@ void testLeafSphere(Ray ray, uint k) {
 // A leaf: its `count` spheres from slot `first` in leaf order. A leaf of
 // one sphere (every leaf of the binary walk's tree but where spheres
 // coincide) is tested without the loop, which cost the H100 3 to 4 % of a
-// frame from 10,000 spheres up (docs/render-model.md section 3).
+// frame from 10,000 spheres up (docs/experiments/gpu-traversal.md).
 void testLeaf(Ray ray, uint first, uint count) {
   if (COUNTERS) searchSpheres += count;
   if (count == 1u) {
@@ -246,7 +246,7 @@ int wideStackTop;
 
 // Pushes a child the ray reaches. Unsorted: inserting it among the ones the
 // same node pushed, farther ones deeper, kept the stack in local memory
-// busier and measured 15 % slower on the H100 (docs/render-model.md section 3).
+// busier and measured 15 % slower on the H100 (docs/experiments/gpu-traversal.md).
 void pushWideChild(uint child, float entry) {
   wideStackChild[wideStackTop] = child;
   wideStackEntry[wideStackTop] = entry;
@@ -361,7 +361,7 @@ float gridPlaneDistance(int k, float gridOrigin, float origin, float inverse) {
 // invocations of a subgroup whose cells list different numbers of spheres
 // go on together instead of each cell waiting for the subgroup's longest
 // list: 1.11x faster at 10,000 spheres on the H200 than a sphere loop
-// inside the cell loop (docs/render-model.md section 3).
+// inside the cell loop (docs/experiments/gpu-traversal.md).
 RaycastHit nearestHitInGrid(Ray ray) {
   vec3 origin = toFloat3(ray.origin);
   vec3 inverse = inverseDirection(toFloat3(ray.direction));

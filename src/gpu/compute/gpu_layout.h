@@ -63,7 +63,7 @@ static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t))
 // no leaf leaves a hole in the buffer and a node's left child is its
 // neighbour in memory. Numbered as in bvh.nodes, half the entries (the
 // leaves) were holes: twice the device memory, and 0.7 % slower at
-// 1,000,000 spheres on the H100 (docs/render-model.md section 3). A tree
+// 1,000,000 spheres on the H100 (docs/experiments/gpu-traversal.md). A tree
 // that is one leaf gets a root with that leaf as both children: testing its
 // spheres twice cannot change the nearest hit. Each child's box is widened
 // by `boxPad` on every side: the scene's traversal pad (sceneTraversalPad),

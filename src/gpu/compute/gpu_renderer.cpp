@@ -183,7 +183,7 @@ Buffer uploadStorage(const Device& device, CommandRunner& runner, std::span<cons
 // The binary walk's tree has one sphere per leaf (kSingleSphereLeaves: with
 // the paired stack entries 1.12 to 1.19x faster on the H100 than the CPU
 // kernels' leaves from 1,000 spheres up, 2 % slower at 100, slower on
-// lavapipe; docs/render-model.md section 3); the wide tree is collapsed
+// lavapipe; docs/experiments/gpu-traversal.md); the wide tree is collapsed
 // from the CPU kernels' own.
 AccelStructure accelFor(const Scene& scene, const RenderOptions& options) {
   AccelStructure accel;

@@ -86,7 +86,7 @@ vk::raii::Pipeline createPipeline(const Device& device, const vk::raii::Pipeline
   // (node and slot numbers come from the uploaded tree, queues and states
   // are sized for the image). NVIDIA's driver otherwise tests each load
   // against its buffer's size, two more instructions per load: turning that
-  // off made H200 frames 4 to 6 % faster (docs/render-model.md section 3).
+  // off made H200 frames 4 to 6 % faster (docs/experiments/gpu-traversal.md).
   const vk::PipelineRobustnessCreateInfoEXT unchecked{.storageBuffers =
                                                           vk::PipelineRobustnessBufferBehaviorEXT::eDisabled};
   const vk::ComputePipelineCreateInfo info{.pNext = device.pipelineRobustness() ? &unchecked : nullptr,

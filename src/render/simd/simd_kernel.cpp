@@ -97,7 +97,7 @@ void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int s
   kernel_ = kernels_.variants[KernelVariant::of(options).index()];
 }
 
-// Measured (docs/render-model.md section 3, the traversals): a packet pays off only while
+// Measured (docs/experiments/cpu-traversal.md): a packet pays off only while
 // nearly all of its lanes reach a node, as for primary rays; split it
 // once an eighth of them (at least one) has dropped out.
 int SimdKernel::defaultHybridThreshold(int lanes) { return lanes - std::max(1, lanes / 8); }

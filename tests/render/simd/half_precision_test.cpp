@@ -147,7 +147,7 @@ class HalfPrecisionKernel : public ::testing::Test {
 
 // Within 2/255 of the double reference at 160x120, frame 0, measured on
 // the GPU machine's Xeon (AVX3_SPR, 32 f16 lanes): default 75 %, random20
-// 93 %, random100 76 %; PSNR 28-34 dB (docs/render-model.md section 10).
+// 93 %, random100 76 %; PSNR 28-34 dB (docs/experiments/half-precision.md).
 // The floor is well under those, as the GPU renderer's test has it.
 constexpr double kHalfPrecisionFloor = 0.6;
 
