@@ -1,5 +1,5 @@
-"""The status words of a run directory's manifest (RUN_DIR/manifest.json; the
-README's table of what a run directory holds lists them): one vocabulary for
+"""The status words of a run directory's manifest (RUN_DIR/manifest.json;
+docs/bench-and-report.md's table of what a run directory holds lists them): one vocabulary for
 the runner that writes them and for the loader and the report that read
 them back. The manifest is written and read by rtbench alone (the raytracer
 never sees it), so the words live here and not in schema/rt_schema.json,

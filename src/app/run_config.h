@@ -33,12 +33,12 @@ struct RunConfig {
   bool quiet = false;
   bool tracyWait = false;  // wait for a Tracy viewer before the first frame
   std::vector<std::string> commandLine;
-  // The Vulkan device and the Present phase (README.md, "The GPU renderer (Vulkan)").
+  // The Vulkan device and the Present phase (docs/gpu.md).
   std::optional<PresentMode> present;  // --present; nullopt: upload when a device opens, else none
   std::string device;                  // --device INDEX|NAME-SUBSTRING; empty: the default choice
   bool listDevices = false;            // --list-devices: print them and exit
   bool vkValidation = false;           // --vk-validation: validation layer on, messages fail the run
-  // The live window (README.md, "Watching a scene: --window"): --window is --present window.
+  // The live window (docs/window.md): --window is --present window.
   schema::SwapchainPresentMode swapchainPresentMode = schema::SwapchainPresentMode::fifo;  // --present-mode
 
   [[nodiscard]] long long totalFrames() const { return static_cast<long long>(warmupFrames) + measuredFrames; }

@@ -1,5 +1,5 @@
-"""Outputs under faults, as the README promises them (section "`raytracer`
-command line", after the exit codes): a run killed with SIGKILL, a full
+"""Outputs under faults, as docs/command-line.md promises them (section
+"Exit codes and outputs"): a run killed with SIGKILL, a full
 file system, a read-only one, a path that cannot be a file. Each output (the
 CSV, the metadata, a saved PNG) is afterwards the previous file or a complete
 new one, never a torn one, and the error says why.

@@ -2,8 +2,8 @@
 """Seeded mutation fuzzing of the raytracer binary: scene files and command lines.
 
 Runs the real binary (in CI the ASan + UBSan debug build) on mutated inputs
-and holds every run to the contract of bad input (README, section
-"`raytracer` command line", the exit codes; docs/render-model.md section 1,
+and holds every run to the contract of bad input (docs/command-line.md,
+section "Exit codes and outputs"; docs/render-model.md section 1,
 Rejection):
 
 - it exits 0 or 2, by itself (no signal) and in time (no hang);

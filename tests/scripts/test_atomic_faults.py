@@ -1,6 +1,6 @@
 """The Python writers of the bench runner and the report (rtbench.atomic)
-held to what the README promises of the raytracer's outputs (section
-"`raytracer` command line", after the exit codes): a full file system and a
+held to what docs/command-line.md promises of the raytracer's outputs
+(section "Exit codes and outputs"): a full file system and a
 read-only one leave the previous file and no temporary, and the error is the
 system's (ENOSPC, EROFS). Needs a tmpfs of its own (root); skips otherwise."""
 

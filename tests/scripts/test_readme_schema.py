@@ -1,9 +1,14 @@
-"""README.md documents the CSV schema by hand; this keeps that copy in step
-with schema/rt_schema.json, the one definition the binary writes from."""
+"""The docs describe the schema by hand (docs/output.md: the CSV columns and
+the metadata keys; docs/architecture.md: the renderer table); this keeps
+those copies in step with schema/rt_schema.json, the one definition the
+binary writes from. (Named for where the tables lived before docs/.)"""
 
 import re
 
 from rtbench import schema
+
+OUTPUT_PAGE = "docs/output.md"
+ARCHITECTURE_PAGE = "docs/architecture.md"
 
 
 def _section(text: str, heading: str) -> str:
@@ -12,8 +17,12 @@ def _section(text: str, heading: str) -> str:
     return text[start : end if end >= 0 else len(text)]
 
 
-def test_readme_csv_table_lists_exactly_the_schema_columns(repo_root):
-    section = _section((repo_root / "README.md").read_text(encoding="utf-8"), "## Per-frame CSV")
+def _page(repo_root, page: str) -> str:
+    return (repo_root / page).read_text(encoding="utf-8")
+
+
+def test_docs_csv_table_lists_exactly_the_schema_columns(repo_root):
+    section = _section(_page(repo_root, OUTPUT_PAGE), "## Per-frame CSV")
     documented = []
     for line in section.splitlines():
         if line.startswith("| `"):
@@ -22,8 +31,8 @@ def test_readme_csv_table_lists_exactly_the_schema_columns(repo_root):
     assert documented == schema.frame_csv_columns()
 
 
-def test_readme_names_every_metadata_key(repo_root):
-    section = _section((repo_root / "README.md").read_text(encoding="utf-8"), "## Run metadata")
+def test_docs_name_every_metadata_key(repo_root):
+    section = _section(_page(repo_root, OUTPUT_PAGE), "## Run metadata")
     missing = [k for k in schema.run_metadata_keys() if f"`{k}`" not in section]
     assert missing == []
 
@@ -35,26 +44,26 @@ def metadata_paths(*path: str):
         yield from metadata_paths(*path, field)
 
 
-def test_readme_names_every_nested_metadata_key(repo_root):
+def test_docs_name_every_nested_metadata_key(repo_root):
     """The keys inside the metadata's objects (the schema's `fields`) are
     named in the section too, each as a word: a key the schema gains or
-    renames and the README does not fails here."""
-    section = _section((repo_root / "README.md").read_text(encoding="utf-8"), "## Run metadata")
+    renames and docs/output.md does not fails here."""
+    section = _section(_page(repo_root, OUTPUT_PAGE), "## Run metadata")
     paths = [p for key in schema.run_metadata_keys() for p in metadata_paths(key)]
     assert ("host", "cpu_model") in paths and ("build", "nix", "nixpkgs_rev") in paths, "the walk reaches every depth"
     missing = [".".join(p) for p in paths if not re.search(rf"\b{re.escape(p[-1])}\b", section)]
     assert missing == []
 
 
-# --- the renderer table of "## Architecture" ------------------------------------------------------
+# --- the renderer table of docs/architecture.md, "## Renderers" --------------------------------------
 RENDERER_TABLE_HEADER = "| thesis class | our renderer (`--flag`) | kernel | scheduler | code |"
 RENDERER_CELL = re.compile(r"`([a-z_]+)` \(`(--[a-z-]+)`\)")
 CPU_RENDERER = re.compile(r"CpuRenderer<(\w+)Kernel, (\w+)Scheduler>")
 
 
 def renderer_table(text: str) -> list[list[str]]:
-    """The rows of the README's renderer table, as cells."""
-    section = _section(text, "## Architecture")
+    """The rows of the renderer table of docs/architecture.md, as cells."""
+    section = _section(text, "## Renderers")
     lines = section[section.index(RENDERER_TABLE_HEADER) :].splitlines()[2:]
     rows = []
     for line in lines:
@@ -67,7 +76,7 @@ def renderer_table(text: str) -> list[list[str]]:
 def renderer_table_disagreements(
     text: str, renderers: list[dict], kernels: list[str], schedulers: list[str]
 ) -> list[str]:
-    """What the README's renderer table says otherwise than the schema's
+    """What the renderer table says otherwise than the schema's
     renderers: the names in schema order, each one's flag, kernel and
     scheduler (a renderer with neither, as gpu, must not name a CPU one),
     and the CpuRenderer<Kernel, Scheduler> its code cell names."""
@@ -98,16 +107,16 @@ def _schema_renderer_facts():
     return s["renderers"], [k["name"] for k in s["kernels"]], [k["name"] for k in s["schedulers"]]
 
 
-def test_readme_renderer_table_is_the_schemas(repo_root):
-    text = (repo_root / "README.md").read_text(encoding="utf-8")
+def test_docs_renderer_table_is_the_schemas(repo_root):
+    text = _page(repo_root, ARCHITECTURE_PAGE)
     assert len(renderer_table(text)) == len(schema.renderer_names())
     assert renderer_table_disagreements(text, *_schema_renderer_facts()) == []
 
 
 def test_the_renderer_table_check_sees_each_kind_of_disagreement(repo_root):
-    """Each cell the check reads, changed in a copy of the README, is found."""
-    text = (repo_root / "README.md").read_text(encoding="utf-8")
-    table = _section(text, "## Architecture")
+    """Each cell the check reads, changed in a copy of the page, is found."""
+    text = _page(repo_root, ARCHITECTURE_PAGE)
+    table = _section(text, "## Renderers")
     edits = [
         ("| `simd_only` (`--simd-only`) | simd | serial |", "| `simd_only` (`--simd-single`) | simd | serial |"),
         ("| `tbb_only` (`--tbb-only`) | scalar | tbb |", "| `tbb_only` (`--tbb-only`) | simd | tbb |"),

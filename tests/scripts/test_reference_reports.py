@@ -45,7 +45,8 @@ REFERENCES = [
     ("report/gpu-machine-paper-o0", "data/reference-runs/gpu-machine-paper-o0.tar.xz"),
 ]
 # The thesis' findings of the paper profile on both machines and both builds,
-# side by side (README.md, "Reference results"), and the runs behind it in its column order.
+# side by side (docs/results.md, "Which of the thesis' findings hold where"),
+# and the runs behind it in its column order.
 FINDINGS_SIDE_BY_SIDE = "report/thesis-findings.md"
 FINDINGS_RUNS = [
     "data/reference-runs/two-core-paper-o0.tar.xz",
