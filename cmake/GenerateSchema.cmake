@@ -145,6 +145,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_json_names(algorithms "${json}" algorithms)
   rt_json_names(early_exits "${json}" early_exits)
   rt_json_names(accels "${json}" accels)
+  rt_json_names(box_paddings "${json}" box_paddings)
   rt_json_names(traversals "${json}" traversals)
   rt_json_names(gpu_bvhs "${json}" gpu_bvhs)
   rt_json_names(gpu_schedules "${json}" gpu_schedules)
@@ -166,6 +167,7 @@ function(rt_generate_schema_header json_path header_path)
   rt_enum_block(b_algorithms Algorithm "${algorithms}")
   rt_enum_block(b_exits EarlyExit "${early_exits}")
   rt_enum_block(b_accels Accel "${accels}")
+  rt_enum_block(b_box_paddings BoxPadding "${box_paddings}")
   rt_enum_block(b_traversals Traversal "${traversals}")
   rt_enum_block(b_gpu_bvhs GpuBvh "${gpu_bvhs}")
   rt_enum_block(b_gpu_schedules GpuSchedule "${gpu_schedules}")
@@ -226,7 +228,7 @@ function(rt_generate_schema_header json_path header_path)
 "// Generated from schema/rt_schema.json by cmake/GenerateSchema.cmake. Do not edit.\n\
 #pragma once\n#include <array>\n#include <optional>\n#include <string_view>\n\nnamespace rt::schema {\n\n\
 inline constexpr int kVersion = ${version};\n\n\
-${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_accels}${b_traversals}${b_gpu_bvhs}${b_gpu_schedules}${b_gpu_paths}${b_gpu_rt_reorders}${b_precisions}${b_stages}${b_partitions}${b_present}${b_swapchain_present}${b_columns}${b_meta}\
+${b_renderers}${b_phases}${b_algorithms}${b_exits}${b_accels}${b_box_paddings}${b_traversals}${b_gpu_bvhs}${b_gpu_schedules}${b_gpu_paths}${b_gpu_rt_reorders}${b_precisions}${b_stages}${b_partitions}${b_present}${b_swapchain_present}${b_columns}${b_meta}\
 ${b_kernels}${b_schedulers}${b_options}\
 inline constexpr std::array<std::string_view, ${n_options}> kRendererOptionFlags{\n${option_flags}};\n\n\
 // --lanes values besides 'native' (pixels per SIMD packet).\n\

@@ -43,12 +43,12 @@
 #define RT_SPEC_TWO_PASS 0
 #define RT_SPEC_BOUNCE_EXIT 1
 #define RT_SPEC_MAX_DEPTH 2
-// --accel bvh, and the two scene bounds the traversal pad grows with
-// (rt::Bvh::maxRadius, maxCoordinate): fixed per scene, and the push
-// constants have no room left for them.
+// --accel bvh, and the traversal pad's model (rt::Bvh::pad: radius,
+// coordinate and origin slope): fixed per scene, and the push constants
+// have no room left for them.
 #define RT_SPEC_USE_BVH 3
-#define RT_SPEC_BVH_MAX_RADIUS 4
-#define RT_SPEC_BVH_MAX_COORDINATE 5
+#define RT_SPEC_BVH_PAD_RADIUS 4
+#define RT_SPEC_BVH_PAD_COORDINATE 5
 // --gpu-bvh wide, and the traversal stack it needs for the tree's depth.
 #define RT_SPEC_WIDE_BVH 6
 #define RT_SPEC_WIDE_STACK_SIZE 7
@@ -70,6 +70,7 @@
 #define RT_SPEC_GRID_CELLS_X 17
 #define RT_SPEC_GRID_CELLS_Y 18
 #define RT_SPEC_GRID_CELLS_Z 19
+#define RT_SPEC_BVH_PAD_ORIGIN_SLOPE 20
 
 #define RT_STAGE_MEGAKERNEL 0
 #define RT_STAGE_WAVEFRONT_DEPTH 1

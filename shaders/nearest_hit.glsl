@@ -95,9 +95,11 @@ RaycastHit nearestHitOfAll(Ray ray) {
 // test reports a hit on is culled with its box.
 float traversalPad(vec3 origin) {
   vec3 a = abs(origin);
-  float scale = max(max(a.x, a.y), a.z) + BVH_MAX_COORDINATE;
-  return float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * sqrt(BVH_MAX_RADIUS * scale) +
-         float(RT_BVH_PAD_RADIUS) * BVH_MAX_RADIUS + float(RT_BVH_PAD_MIN);
+  float originMax = max(max(a.x, a.y), a.z);
+  float scale = originMax + BVH_PAD_COORDINATE;
+  float scenePad = float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * sqrt(BVH_PAD_RADIUS * scale) +
+                   float(RT_BVH_PAD_RADIUS) * BVH_PAD_RADIUS + float(RT_BVH_PAD_MIN);
+  return scenePad + BVH_PAD_ORIGIN_SLOPE * originMax;
 }
 
 // 1 / direction, with a zero component made tiny (sign kept, -0 included),

@@ -36,9 +36,10 @@ layout(constant_id = RT_SPEC_MAX_DEPTH) const int MAX_DEPTH = 5;
 layout(constant_id = RT_SPEC_USE_BVH) const bool USE_BVH = false;
 // The binary walk's stack size, from the tree's depth (nearestHitInBvh()).
 layout(constant_id = RT_SPEC_BVH_STACK_SIZE) const int BVH_STACK_SIZE = RT_BVH_MAX_DEPTH + 2;
-// rt::Bvh::maxRadius and maxCoordinate, which size the traversal pad.
-layout(constant_id = RT_SPEC_BVH_MAX_RADIUS) const float BVH_MAX_RADIUS = 0.0;
-layout(constant_id = RT_SPEC_BVH_MAX_COORDINATE) const float BVH_MAX_COORDINATE = 0.0;
+// rt::Bvh::pad, the model of the traversal pad (rt::TraversalPadModel).
+layout(constant_id = RT_SPEC_BVH_PAD_RADIUS) const float BVH_PAD_RADIUS = 0.0;
+layout(constant_id = RT_SPEC_BVH_PAD_COORDINATE) const float BVH_PAD_COORDINATE = 0.0;
+layout(constant_id = RT_SPEC_BVH_PAD_ORIGIN_SLOPE) const float BVH_PAD_ORIGIN_SLOPE = 0.0;
 
 
 // --gpu-bvh wide: walk rt::WideBvh instead of the binary tree; its stack

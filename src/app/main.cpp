@@ -126,6 +126,9 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
 
   rt::RunTimes times{std::chrono::system_clock::now(), {}, loadMs, 0.0};
   if (config.tracyWait) waitForTracyViewer();
+  if (const auto notice = rt::bruteForceNotice(config, scene.spheres.size()); notice && !config.quiet) {
+    std::cerr << "raytracer: " << *notice << "\n";
+  }
   {
     rt::StageProgress stage("preparing " + std::string(rt::nameOf(config.renderer)) + " (" +
                                 std::to_string(scene.spheres.size()) + " spheres, accel " +

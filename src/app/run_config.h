@@ -51,4 +51,13 @@ struct RunConfig {
 // (none where the CSV goes to a device or FIFO, such as /dev/null).
 std::optional<std::filesystem::path> metadataPathFor(const RunConfig& config);
 
+// From this many spheres up, brute force is slow enough that a run with
+// --accel none says so before it starts.
+inline constexpr std::size_t kBruteForceNoticeSpheres = 5000;
+
+// What a brute-force run over `sphereCount` spheres will cost and which
+// option is faster, said at once instead of leaving the user to wait in
+// silence; empty below kBruteForceNoticeSpheres or with a structure.
+std::optional<std::string> bruteForceNotice(const RunConfig& config, std::size_t sphereCount);
+
 }  // namespace rt

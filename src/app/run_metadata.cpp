@@ -239,6 +239,9 @@ nlohmann::json accelStructureJson(const RendererInfo& renderer) {
       case Key::nodes: return a.nodes ? nlohmann::json(*a.nodes) : nullptr;
       case Key::depth: return a.depth ? nlohmann::json(*a.depth) : nullptr;
       case Key::device_bytes: return a.deviceBytes ? nlohmann::json(*a.deviceBytes) : nullptr;
+      case Key::box_padding: return a.padding ? nlohmann::json(nameOf(*a.padding)) : nullptr;
+      case Key::estimated_tests_per_ray:
+        return a.estimatedTestsPerRay ? nlohmann::json(*a.estimatedTestsPerRay) : nullptr;
     }
     unhandledKey("accel_structure");
   });

@@ -9,6 +9,7 @@ namespace rt {
 
 using schema::Accel;
 using schema::Algorithm;
+using schema::BoxPadding;
 using schema::EarlyExit;
 using schema::GpuBvh;
 using schema::GpuPath;

@@ -612,3 +612,19 @@ def test_agreement_compares_frame_zero_with_the_double_reference(raytracer, repo
     assert agreement["reference"] == "double" and agreement["frame"] == 0 and agreement["tolerance"] == 2
     # The sequential renderer agrees under section 8 (test_gpu_cli.py checks that f16 does not).
     assert agreement["within_tolerance"] >= 0.995 and agreement["max_channel_difference"] <= 2
+
+
+# A brute-force run over a large scene says at once what it costs and what is
+# faster, before it starts; a structure, or a small scene, starts quietly.
+@pytest.mark.parametrize(
+    ("scene", "extra", "noticed"),
+    [("random10000", [], True), ("random10000", ["--accel", "bvh"], False), ("random1000", [], False)],
+)
+def test_brute_force_over_a_large_scene_says_what_it_costs(raytracer, repo_root, scene, extra, noticed):
+    tiny = ["--width", "4", "--height", "4", "--warmup", "0", "--frames", "1", "--present", "none"]
+    done = run(raytracer, "--sequential", repo_root / f"scenes/{scene}.json", *extra, *tiny)
+    assert done.returncode == 0, done.stderr
+    said = "brute force (--accel none) tests every ray against all 10000 spheres: 1.60e+05 sphere tests a frame"
+    assert (said in done.stderr) == noticed, done.stderr
+    if noticed:
+        assert "--accel bvh" in done.stderr.split(said, 1)[1].splitlines()[0]

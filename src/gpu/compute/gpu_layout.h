@@ -119,8 +119,8 @@ struct SpecializationConstants {
   std::uint32_t bounceExit;  // VkBool32
   std::int32_t maxDepth;
   std::uint32_t useBvh = 0;        // VkBool32: --accel bvh
-  float bvhMaxRadius = 0.0f;       // Bvh::maxRadius and maxCoordinate, for the
-  float bvhMaxCoordinate = 0.0f;   // traversal pad; unused without the BVH
+  float bvhPadRadius = 0.0f;       // Bvh::pad, the traversal pad's model;
+  float bvhPadCoordinate = 0.0f;   // unused without the BVH
   std::uint32_t wideBvh = 0;       // VkBool32: --gpu-bvh wide
   std::int32_t wideStackSize = 1;  // entries the wide walk's stack needs
   std::uint32_t persistent = 0;    // VkBool32: --gpu-schedule persistent
@@ -131,6 +131,7 @@ struct SpecializationConstants {
   float gridOrigin[3] = {0.0f, 0.0f, 0.0f};          // rt::SphereGrid's origin, cellSize and cells
   float gridCellSize = 1.0f;
   std::int32_t gridCells[3] = {1, 1, 1};
+  float bvhPadOriginSlope = 0.0f;  // Bvh::pad.originSlope
 };
 
 // The binary walk pushes at most one child per level of the tree on its way

@@ -35,8 +35,12 @@ SpecializationConstants specializationFor(const Scene& scene, const RenderOption
                                     .maxDepth = scene.render.maxDepth};
   if (bvh) {
     constants.useBvh = VK_TRUE;
-    constants.bvhMaxRadius = bvh->maxRadius;
-    constants.bvhMaxCoordinate = bvh->maxCoordinate;
+    // The grid lists its spheres by the scene's pad (gridFor()), so its
+    // walk stops by that pad too, whatever padding the tree's boxes carry.
+    const TraversalPadModel pad = grid ? TraversalPadModel{bvh->maxRadius, bvh->maxCoordinate, 0.0f} : bvh->pad;
+    constants.bvhPadRadius = pad.radius;
+    constants.bvhPadCoordinate = pad.coordinate;
+    constants.bvhPadOriginSlope = pad.originSlope;
     constants.bvhStackSize = binaryStackSize(*bvh);
   }
   if (wide) {
@@ -237,7 +241,8 @@ std::uint64_t gridDeviceBytes(const SphereGrid& grid) {
 // the scene's traversal pad of it (docs/render-model.md section 3, "The grid").
 std::optional<SphereGrid> gridFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
   if (!bvh || options.gpuBvh != GpuBvh::grid) return std::nullopt;
-  return buildSphereGrid(scene.spheres, sceneTraversalPad(*bvh, cameraMaxCoordinate(scene.camera)));
+  return buildSphereGrid(scene.spheres,
+                         sceneTraversalPad(bvh->maxRadius, bvh->maxCoordinate, cameraMaxCoordinate(scene.camera)));
 }
 
 constexpr vk::DeviceSize kCounterBytes =
@@ -481,6 +486,8 @@ RendererInfo GPURenderer::info() const {
     info.accelStructure->nodes = grid.cellCount();
     info.accelStructure->depth = std::nullopt;
     info.accelStructure->deviceBytes = gridDeviceBytes(grid);
+    info.accelStructure->padding = BoxPadding::scene;  // its cells list by the scene's pad (gridFor())
+    info.accelStructure->estimatedTestsPerRay = std::nullopt;
   }
   if (scene_->accel.bvh()) info.gpuBvh = scene_->options.gpuBvh;
   info.gpuSchedule = scene_->options.gpuSchedule;

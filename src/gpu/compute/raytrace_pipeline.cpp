@@ -37,13 +37,14 @@ constexpr auto kBindings = bindings();
 constexpr vk::PushConstantRange kPushConstants{
     .stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = sizeof(FrameConstants)};
 
-constexpr std::array<vk::SpecializationMapEntry, 20> kSpecializationEntries{{
+constexpr std::array<vk::SpecializationMapEntry, 21> kSpecializationEntries{{
     {RT_SPEC_TWO_PASS, offsetof(SpecializationConstants, twoPass), sizeof(std::uint32_t)},
     {RT_SPEC_BOUNCE_EXIT, offsetof(SpecializationConstants, bounceExit), sizeof(std::uint32_t)},
     {RT_SPEC_MAX_DEPTH, offsetof(SpecializationConstants, maxDepth), sizeof(std::int32_t)},
     {RT_SPEC_USE_BVH, offsetof(SpecializationConstants, useBvh), sizeof(std::uint32_t)},
-    {RT_SPEC_BVH_MAX_RADIUS, offsetof(SpecializationConstants, bvhMaxRadius), sizeof(float)},
-    {RT_SPEC_BVH_MAX_COORDINATE, offsetof(SpecializationConstants, bvhMaxCoordinate), sizeof(float)},
+    {RT_SPEC_BVH_PAD_RADIUS, offsetof(SpecializationConstants, bvhPadRadius), sizeof(float)},
+    {RT_SPEC_BVH_PAD_COORDINATE, offsetof(SpecializationConstants, bvhPadCoordinate), sizeof(float)},
+    {RT_SPEC_BVH_PAD_ORIGIN_SLOPE, offsetof(SpecializationConstants, bvhPadOriginSlope), sizeof(float)},
     {RT_SPEC_WIDE_BVH, offsetof(SpecializationConstants, wideBvh), sizeof(std::uint32_t)},
     {RT_SPEC_WIDE_STACK_SIZE, offsetof(SpecializationConstants, wideStackSize), sizeof(std::int32_t)},
     {RT_SPEC_PERSISTENT, offsetof(SpecializationConstants, persistent), sizeof(std::uint32_t)},

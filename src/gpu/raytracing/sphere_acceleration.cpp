@@ -107,17 +107,19 @@ AccelerationLevel buildTopLevel(const Device& device, CommandRunner& runner, con
 }  // namespace
 
 std::vector<SphereBox> paddedSphereBoxes(std::span<const Sphere> spheres, float cameraBound) {
-  float maxRadius = 0.0f;
+  const auto boundOf = [](const Sphere& s) {
+    return std::max({std::abs(s.position.x), std::abs(s.position.y), std::abs(s.position.z)}) + s.radius;
+  };
   float maxCoordinate = 0.0f;
-  for (const Sphere& s : spheres) {
-    maxRadius = std::max(maxRadius, s.radius);
-    for (int a = 0; a < 3; ++a) maxCoordinate = std::max(maxCoordinate, std::abs(s.position[a]) + s.radius);
-  }
-  // Reflected rays start on the spheres' surfaces, camera rays at the camera.
-  const float pad = sceneTraversalPad(maxRadius, maxCoordinate, cameraBound);
+  for (const Sphere& s : spheres) maxCoordinate = std::max(maxCoordinate, boundOf(s));
+  // Reflected rays start on the spheres' surfaces, camera rays at the camera;
+  // each box takes the pad its own sphere's radius and bounds give
+  // (docs/render-model.md section 3, "The traversal pad").
+  const float origin = originBound(maxCoordinate, cameraBound);
   std::vector<SphereBox> boxes(spheres.size());
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     const Sphere& s = spheres[i];
+    const float pad = traversalPad(s.radius, boundOf(s), origin);
     for (int a = 0; a < 3; ++a) {
       boxes[i].lo[a] = s.position[a] - s.radius - pad;
       boxes[i].hi[a] = s.position[a] + s.radius + pad;

@@ -20,12 +20,13 @@ struct SphereBox {
 };
 static_assert(sizeof(SphereBox) == sizeof(VkAabbPositionsKHR));
 
-// The boxes of `spheres`, each widened by sceneTraversalPad
-// (render/accel/bvh.h) as the compute renderer's binary-walk boxes are, so
-// that the driver's own box test cannot cull a sphere the model's float test
-// would hit. The pad grows with the ray origins' largest |coordinate|: the
-// camera's (`cameraBound`, cameraMaxCoordinate in scene/camera.h) or a
-// sphere surface's, where reflected rays start.
+// The boxes of `spheres`, each widened by the traversal pad of its own
+// sphere (traversalPad of its radius and bounds, render/accel/bvh.h) for
+// every origin the scene's rays can have, so that the driver's own box test
+// cannot cull a sphere the model's float test would hit. The pad grows with
+// the ray origins' largest |coordinate|: the camera's (`cameraBound`,
+// cameraMaxCoordinate in scene/camera.h) or a sphere surface's, where
+// reflected rays start.
 std::vector<SphereBox> paddedSphereBoxes(std::span<const Sphere> spheres, float cameraBound);
 
 // One level's structure and the buffer that holds it.

@@ -20,6 +20,10 @@ struct AccelStructureInfo {
   std::optional<int> depth;
   // Device memory it takes; empty for structures in host memory.
   std::optional<std::uint64_t> deviceBytes;
+  // The BVH's box padding and its estimated tests per ray (Bvh::price);
+  // empty for the driver's structure.
+  std::optional<BoxPadding> padding;
+  std::optional<double> estimatedTestsPerRay;
 };
 
 }  // namespace rt

@@ -7,10 +7,12 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "core/profiler.h"
 
@@ -401,7 +403,127 @@ class Builder {
 
 }  // namespace
 
-Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves) {
+namespace {
+
+// What each node's spheres give the pad: their largest radius and the
+// largest |coordinate| of the node's box (docs/render-model.md section 3,
+// "The traversal pad"). Children come after their parent, so one pass from
+// the back sees every child before its parent.
+struct NodeExtent {
+  double radius = 0.0;
+  double coordinate = 0.0;
+};
+
+std::vector<NodeExtent> nodeExtents(const Bvh& bvh, std::span<const Sphere> spheres) {
+  std::vector<NodeExtent> extents(bvh.nodes.size());
+  for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
+    const BvhNode& n = bvh.nodes[i];
+    NodeExtent& e = extents[i];
+    for (int a = 0; a < 3; ++a) {
+      e.coordinate = std::max({e.coordinate, double(std::abs(n.lo[a])), double(std::abs(n.hi[a]))});
+    }
+    if (n.leaf()) {
+      for (std::uint32_t k = n.first; k < n.first + n.count(); ++k) {
+        e.radius = std::max(e.radius, double(spheres[bvh.order[k]].radius));
+      }
+    } else {
+      e.radius = std::max(extents[n.first].radius, extents[n.first + 1].radius);
+    }
+  }
+  return extents;
+}
+
+// The part of the pad a node's own spheres give under local padding: the
+// scene formula's terms in the box's radius R and |coordinate| C, with its
+// tangency term sqrt(R (o + C)) split as sqrt(R C) + sqrt(R o) and
+// sqrt(R o) <= (SPLIT R + o / SPLIT) / 2, so that what is left for the ray
+// is linear in its origin o (kLocalOriginSlope).
+double localBoxPad(const NodeExtent& e) {
+  return RT_BVH_PAD_SCALE * e.coordinate + RT_BVH_PAD_TANGENT * std::sqrt(e.radius * e.coordinate) +
+         RT_BVH_PAD_TANGENT * RT_BVH_PAD_SPLIT * e.radius / 2 + RT_BVH_PAD_RADIUS * e.radius;
+}
+
+// The ray's share of the split tangency term, T / (2 SPLIT) per unit of the
+// origin's |coordinate|, rounded up to a float.
+float localOriginSlope() {
+  const double slope = RT_BVH_PAD_TANGENT / (2 * RT_BVH_PAD_SPLIT);
+  const auto rounded = static_cast<float>(slope);
+  return double(rounded) < slope ? std::nextafter(rounded, kInf) : rounded;
+}
+
+// A box is widened by twice its spheres' part: the first covers the pad in
+// space, the second the same pad along the ray (a box widened by w is
+// entered at least w earlier and left at least w later by a ray of unit
+// direction, each |1 / direction component| being at least 1). 2^-10 more
+// covers the direction's rounding and the slab test's.
+float widenedDown(float bound, double by) {
+  const double exact = double(bound) - by;
+  const auto rounded = static_cast<float>(exact);
+  return double(rounded) > exact ? std::nextafter(rounded, -kInf) : rounded;
+}
+
+float widenedUp(float bound, double by) {
+  const double exact = double(bound) + by;
+  const auto rounded = static_cast<float>(exact);
+  return double(rounded) < exact ? std::nextafter(rounded, kInf) : rounded;
+}
+
+void padBoxesLocally(Bvh& bvh, std::span<const NodeExtent> extents) {
+  for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+    const double by = 2 * localBoxPad(extents[i]) * (1 + 0x1p-10);
+    BvhNode& n = bvh.nodes[i];
+    for (int a = 0; a < 3; ++a) {
+      n.lo[a] = widenedDown(n.lo[a], by);
+      n.hi[a] = widenedUp(n.hi[a], by);
+    }
+  }
+  bvh.padding = BoxPadding::local;
+  bvh.pad = {0.0f, 0.0f, localOriginSlope()};
+}
+
+// The |coordinate| a typical ray starts from: the median over the spheres
+// of their centre's largest |coordinate|.
+float typicalOrigin(std::span<const Sphere> spheres) {
+  std::vector<float> coordinates(spheres.size());
+  std::ranges::transform(spheres, coordinates.begin(), [](const Sphere& s) {
+    return std::max({std::abs(s.position.x), std::abs(s.position.y), std::abs(s.position.z)});
+  });
+  const auto middle = coordinates.begin() + static_cast<std::ptrdiff_t>(coordinates.size() / 2);
+  std::ranges::nth_element(coordinates, middle);
+  return *middle;
+}
+
+double surfaceArea(const BvhNode& n, double widenedBy) {
+  const double x = double(n.hi.x) - double(n.lo.x) + 2 * widenedBy;
+  const double y = double(n.hi.y) - double(n.lo.y) + 2 * widenedBy;
+  const double z = double(n.hi.z) - double(n.lo.z) + 2 * widenedBy;
+  return 2 * (x * y + y * z + z * x);
+}
+
+// padPrice() on the tight boxes, the node extents already taken.
+double padPriceOfTightTree(const Bvh& bvh, std::span<const NodeExtent> extents, float origin, BoxPadding padding) {
+  const double sceneShare = traversalPad(bvh.maxRadius, bvh.maxCoordinate, origin);
+  const double rayShare = RT_BVH_PAD_SCALE * origin + RT_BVH_PAD_MIN + double(localOriginSlope()) * origin;
+  const auto widening = [&](std::size_t i) {
+    return padding == BoxPadding::scene ? sceneShare : 2 * localBoxPad(extents[i]) + rayShare;
+  };
+  const double root = surfaceArea(bvh.nodes[0], widening(0));
+  double price = 0.0;
+  for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+    const BvhNode& n = bvh.nodes[i];
+    price += surfaceArea(n, widening(i)) / root * (n.leaf() ? double(n.count()) + 1.0 : 1.0);
+  }
+  return price;
+}
+
+}  // namespace
+
+double padPrice(const Bvh& bvh, std::span<const Sphere> spheres, BoxPadding padding) {
+  if (bvh.padding != BoxPadding::scene) throw std::invalid_argument("padPrice needs the tree's tight boxes");
+  return padPriceOfTightTree(bvh, nodeExtents(bvh, spheres), typicalOrigin(spheres), padding);
+}
+
+Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves, std::optional<BoxPadding> padding) {
   ZoneScopedN("BVH build");
   if (spheres.empty()) throw std::invalid_argument("a BVH needs at least one sphere");
   if (leaves.always == 0 || leaves.sahUpTo < leaves.always) {
@@ -409,6 +531,16 @@ Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves) {
   }
   const auto start = std::chrono::steady_clock::now();
   Bvh bvh = Builder(spheres, leaves).build();
+  bvh.pad = {bvh.maxRadius, bvh.maxCoordinate, 0.0f};
+  const std::vector<NodeExtent> extents = nodeExtents(bvh, spheres);
+  const float origin = typicalOrigin(spheres);
+  const double scenePrice = padPriceOfTightTree(bvh, extents, origin, BoxPadding::scene);
+  const double localPrice = padPriceOfTightTree(bvh, extents, origin, BoxPadding::local);
+  // Local padding only where it saves a tenth: where the two are close
+  // (uniform sizes) the scene's pad keeps the boxes as they always were.
+  const BoxPadding chosen = padding.value_or(localPrice < 0.9 * scenePrice ? BoxPadding::local : BoxPadding::scene);
+  bvh.price = chosen == BoxPadding::local ? localPrice : scenePrice;
+  if (chosen == BoxPadding::local) padBoxesLocally(bvh, extents);
   bvh.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return bvh;
 }

@@ -33,30 +33,57 @@ struct BvhNode {
 };
 static_assert(sizeof(BvhNode) == 32);
 
+// How the walks widen a tree's boxes so that no sphere the float test hits
+// is culled (docs/render-model.md section 3, "The traversal pad"). Every
+// walk computes, once per ray, traversalPad(model, |origin|) and widens each
+// box by it, in space and along the ray; what the boxes carry is the
+// build's choice (BoxPadding, from the schema):
+// - scene: boxes as tight as the spheres, the pad sized by the scene's
+//   largest radius and |coordinate| (radius, coordinate; originSlope 0);
+// - local: each box already widened by twice the part of the pad that its
+//   own spheres' radii and coordinates give, so the ray's part is linear in
+//   its origin (radius and coordinate 0, originSlope > 0).
+struct TraversalPadModel {
+  float radius = 0.0f;
+  float coordinate = 0.0f;
+  float originSlope = 0.0f;
+};
+
 struct Bvh {
   std::vector<BvhNode> nodes;        // nodes[0] is the root
   std::vector<std::uint32_t> order;  // sphere indices, leaf by leaf
   int depth = 0;                     // levels below the root, for sizing traversal stacks
   float maxRadius = 0.0f;            // of any sphere, and the largest |coordinate| of
-  float maxCoordinate = 0.0f;        // any sphere's bounds: they size traversalPad()
-  double buildMs = 0.0;              // wall time of buildBvh()
+  float maxCoordinate = 0.0f;        // any sphere's bounds (sceneTraversalPad's)
+  BoxPadding padding = BoxPadding::scene;
+  TraversalPadModel pad;  // what the walks' traversalPad() reads
+  double price = 0.0;     // padPrice() of the padding chosen: estimated sphere tests per ray
+  double buildMs = 0.0;   // wall time of buildBvh()
 };
 
 // How far a box must be widened, in space and along the ray, so that no
 // sphere whose float intersection (docs/render-model.md section 3) reports a
 // hit is culled by its box: the float test may report a hit a little
 // outside the exact sphere, most near tangency, and its distance may be off
-// by as much. Grows with the ray origin's largest |coordinate|. The scene
-// enters through its largest radius and largest |coordinate| of a sphere's
-// bounds (Bvh::maxRadius, maxCoordinate).
+// by as much. Grows with the ray origin's largest |coordinate|, and with
+// the largest radius and |coordinate| of the spheres the box holds.
 inline float traversalPad(float maxRadius, float maxCoordinate, float originMaxCoordinate) {
   const float scale = originMaxCoordinate + maxCoordinate;
   return float(RT_BVH_PAD_SCALE) * scale + float(RT_BVH_PAD_TANGENT) * std::sqrt(maxRadius * scale) +
          float(RT_BVH_PAD_RADIUS) * maxRadius + float(RT_BVH_PAD_MIN);
 }
 
+// The pad of a ray from `originMaxCoordinate` in a tree padded as `model`
+// says: the scene's pad for BoxPadding::scene, the ray's part for local
+// (whose zero radius and coordinate leave the first formula at
+// PAD_SCALE |origin| + PAD_MIN, to which the origin's share of the tangency
+// term is added).
+inline float traversalPad(const TraversalPadModel& model, float originMaxCoordinate) {
+  return traversalPad(model.radius, model.coordinate, originMaxCoordinate) + model.originSlope * originMaxCoordinate;
+}
+
 inline float traversalPad(const Bvh& bvh, float originMaxCoordinate) {
-  return traversalPad(bvh.maxRadius, bvh.maxCoordinate, originMaxCoordinate);
+  return traversalPad(bvh.pad, originMaxCoordinate);
 }
 
 // The pad of every ray a scene traces, at least traversalPad of any of its
@@ -65,13 +92,19 @@ inline float traversalPad(const Bvh& bvh, float originMaxCoordinate) {
 // scene/camera.h). A float hit point or camera position may lie an ulp past
 // those bounds, so the bound is raised by 2^-20 of itself before it sizes
 // the pad.
-inline float sceneTraversalPad(float maxRadius, float maxCoordinate, float cameraBound) {
+inline float originBound(float maxCoordinate, float cameraBound) {
   const float bound = std::max(maxCoordinate, cameraBound);
-  return traversalPad(maxRadius, maxCoordinate, bound + bound * 0x1p-20f);
+  return bound + bound * 0x1p-20f;
 }
 
+inline float sceneTraversalPad(float maxRadius, float maxCoordinate, float cameraBound) {
+  return traversalPad(maxRadius, maxCoordinate, originBound(maxCoordinate, cameraBound));
+}
+
+// The pad of every ray of the scene in `bvh`'s model: with local padding,
+// only the rays' part (the boxes carry the rest).
 inline float sceneTraversalPad(const Bvh& bvh, float cameraBound) {
-  return sceneTraversalPad(bvh.maxRadius, bvh.maxCoordinate, cameraBound);
+  return traversalPad(bvh.pad, originBound(bvh.maxCoordinate, cameraBound));
 }
 
 // Deepest tree a traversal stack must hold (the build stops splitting there).
@@ -97,7 +130,16 @@ inline constexpr BvhLeafRule kSingleSphereLeaves{1, 1};
 // leaves as `leaves` says (always >= 1, sahUpTo >= always).
 // Deterministic: the same spheres give the same tree, bit for bit, with any
 // number of threads (tests/render/accel/bvh_build_test.cpp).
-Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves = kBvhLeaves);
+// `padding`: the boxes' padding, or none to let the build choose the one
+// with the lower estimated cost (padPrice() below).
+Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves = kBvhLeaves,
+             std::optional<BoxPadding> padding = std::nullopt);
+
+// The estimated cost of a ray's walk through `bvh` under `padding`, in
+// sphere tests (a node visit counts as one): the surface-area heuristic of
+// its boxes as that padding widens them, for a ray from the spheres' median
+// |coordinate|. Brute force costs the sphere count.
+double padPrice(const Bvh& bvh, std::span<const Sphere> spheres, BoxPadding padding);
 
 }  // namespace rt
 
@@ -115,7 +157,8 @@ class AccelStructure {
   [[nodiscard]] const Bvh* bvh() const { return bvh_ ? &*bvh_ : nullptr; }
   [[nodiscard]] std::optional<AccelStructureInfo> info() const {
     if (!bvh_) return std::nullopt;
-    return AccelStructureInfo{Accel::bvh, bvh_->buildMs, bvh_->nodes.size(), bvh_->depth, std::nullopt};
+    return AccelStructureInfo{Accel::bvh, bvh_->buildMs, bvh_->nodes.size(), bvh_->depth, std::nullopt,
+                              bvh_->padding, bvh_->price};
   }
 
  private:

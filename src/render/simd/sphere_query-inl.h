@@ -174,16 +174,17 @@ HWY_INLINE Vec3x<D> InverseDirection(D d, const Vec3x<D>& dir) {
   return Vec3Of(d, hn::Div(one, safe(Get(dir.x))), hn::Div(one, safe(Get(dir.y))), hn::Div(one, safe(Get(dir.z))));
 }
 
-// traversalPad() (render/accel/bvh.h) per lane.
+// traversalPad() (render/accel/bvh.h) per lane, in the tree's pad model.
 template <class D>
 HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
-  const VecF<D> scale =
-      hn::Add(hn::Max(hn::Abs(Get(origin.x)), hn::Max(hn::Abs(Get(origin.y)), hn::Abs(Get(origin.z)))),
-              hn::Set(d, bvh.maxCoordinate));
-  return hn::Add(
+  const VecF<D> originMax =
+      hn::Max(hn::Abs(Get(origin.x)), hn::Max(hn::Abs(Get(origin.y)), hn::Abs(Get(origin.z))));
+  const VecF<D> scale = hn::Add(originMax, hn::Set(d, bvh.pad.coordinate));
+  const VecF<D> scenePad = hn::Add(
       hn::Add(hn::Mul(hn::Set(d, float(RT_BVH_PAD_SCALE)), scale),
-              hn::Mul(hn::Set(d, float(RT_BVH_PAD_TANGENT)), hn::Sqrt(hn::Mul(hn::Set(d, bvh.maxRadius), scale)))),
-      hn::Set(d, float(RT_BVH_PAD_RADIUS) * bvh.maxRadius + float(RT_BVH_PAD_MIN)));
+              hn::Mul(hn::Set(d, float(RT_BVH_PAD_TANGENT)), hn::Sqrt(hn::Mul(hn::Set(d, bvh.pad.radius), scale)))),
+      hn::Set(d, float(RT_BVH_PAD_RADIUS) * bvh.pad.radius + float(RT_BVH_PAD_MIN)));
+  return hn::Add(scenePad, hn::Mul(hn::Set(d, bvh.pad.originSlope), originMax));
 }
 
 // With a BVH: the packet walks the tree together, visiting a node while

@@ -59,6 +59,23 @@ inline Scene cameraInsideSky() {
   return inside;
 }
 
+// The layout of the best-known sphere scene: a ground sphere of radius 1000
+// whose top is the plane y = 0, under a field of small spheres resting on it
+// and three larger ones. One radius 5,000 times the rest: the scene's
+// extremes say nothing of the small spheres' boxes (docs/render-model.md
+// section 3, "The traversal pad").
+inline Scene groundUnderSmallSpheres() {
+  const glm::vec3 ground{0.5f, 0.5f, 0.5f};
+  std::vector<Sphere> spheres{{{0, -1000, 0}, 1000, ground}};
+  for (std::uint32_t i = 0; i < 196; ++i) {
+    const float x = static_cast<float>(i % 14) - 6.5f + 0.6f * (unitNoise(i, 1) - 0.5f);
+    const float z = static_cast<float>(i / 14) - 6.5f + 0.6f * (unitNoise(i, 2) - 0.5f);
+    spheres.push_back({{x, 0.2f, z}, 0.2f, {unitNoise(i, 3), unitNoise(i, 4), unitNoise(i, 5)}});
+  }
+  for (int i = -1; i <= 1; ++i) spheres.push_back({{4.0f * static_cast<float>(i), 1, 0}, 1, {0.9f, 0.8f, 0.7f}});
+  return withSpheres(spheres);
+}
+
 inline std::vector<NamedScene> adversarialScenes() {
   std::vector<NamedScene> scenes;
   const glm::vec3 red{0.9f, 0.2f, 0.2f}, blue{0.2f, 0.4f, 0.9f}, grey{0.8f};
@@ -90,6 +107,7 @@ inline std::vector<NamedScene> adversarialScenes() {
     onPlanes.push_back({{i & 1 ? 1.0f : -1.0f, i & 2 ? 1.0f : -1.0f, i & 4 ? 1.0f : -1.0f}, 1, blue});
   }
   scenes.push_back({"on-cell-planes", withSpheres(onPlanes)});
+  scenes.push_back({"ground-under-small", groundUnderSmallSpheres()});
   scenes.push_back({"random1000", withSpheres(randomSpheres(1000, 12, 0.4f))});
   return scenes;
 }

@@ -12,6 +12,7 @@
 #include "render/accel/accel_scenes.h"
 #include "render/cpu_renderers.h"
 #include "render/render_test_support.h"
+#include "render/scalar/sphere_query.h"
 #include "test_support.h"
 
 namespace rt {
@@ -113,6 +114,58 @@ TEST(Bvh, SceneTraversalPadCoversEveryOrigin) {
     EXPECT_GE(pad, traversalPad(bvh, camera)) << camera;
   }
   EXPECT_GT(sceneTraversalPad(bvh, 3.0f * bvh.maxCoordinate), sceneTraversalPad(bvh, 0.0f));
+}
+
+// The build pads the boxes by their own spheres where the scene's extremes
+// would widen every box by far more than its spheres need (the ground
+// sphere), and keeps the scene's pad where it is the smaller one (uniform
+// sizes); padPrice() tells which.
+TEST(Bvh, PadsBoxesLocallyWhereOneSphereDwarfsTheRest) {
+  const Scene ground = test::groundUnderSmallSpheres();
+  const Bvh local = buildBvh(ground.spheres);
+  EXPECT_EQ(local.padding, BoxPadding::local);
+  EXPECT_EQ(local.pad.radius, 0.0f);
+  EXPECT_GT(local.pad.originSlope, 0.0f);
+  const Bvh tight = buildBvh(ground.spheres, kBvhLeaves, BoxPadding::scene);
+  EXPECT_LT(padPrice(tight, ground.spheres, BoxPadding::local), padPrice(tight, ground.spheres, BoxPadding::scene));
+  EXPECT_DOUBLE_EQ(local.price, padPrice(tight, ground.spheres, BoxPadding::local));
+  expectWellFormed(local, ground.spheres, "ground, padded locally");
+  // Boxes of small spheres only: padded by what those give, far below the
+  // scene's pad at the camera (about 6 here).
+  const float scenePad = traversalPad(local.maxRadius, local.maxCoordinate, 6.0f);
+  EXPECT_GT(scenePad, 5.0f);
+  for (std::size_t i = 0; i < local.nodes.size(); ++i) {
+    const BvhNode& n = local.nodes[i];
+    if (n.leaf() && n.lo.y > -1.0f) EXPECT_LT(n.hi.y - n.lo.y, 2.5f) << "node " << i;
+  }
+  for (const char* name : {"default", "random100"}) {
+    EXPECT_EQ(buildBvh(test::loadNamedScene(name).spheres).padding, BoxPadding::scene) << name;
+  }
+}
+
+// Either padding finds brute force's nearest sphere for every ray: camera
+// rays and rays from sphere surfaces in every direction, on the scenes that
+// mix sizes and the rest.
+TEST(Bvh, BothPaddingsFindBruteForcesHitForRaysFromAnywhere) {
+  for (const auto& [name, scene] : test::adversarialScenes()) {
+    for (const BoxPadding padding : {BoxPadding::scene, BoxPadding::local}) {
+      const Bvh bvh = buildBvh(scene.spheres, kBvhLeaves, padding);
+      int differ = 0;
+      for (std::uint32_t i = 0; i < 4000; ++i) {
+        const Sphere& from = scene.spheres[i % scene.spheres.size()];
+        const glm::vec3 d = glm::normalize(glm::vec3(test::unitNoise(i, 11), test::unitNoise(i, 12),
+                                                     test::unitNoise(i, 13)) - 0.5f);
+        const glm::vec3 onSurface = from.position + from.radius * d;
+        const kernel::Ray<float> ray = i % 2 ? kernel::Ray<float>{scene.camera.position, d}
+                                             : kernel::Ray<float>{onSurface, glm::normalize(d + 0.3f * glm::vec3(
+                                                 test::unitNoise(i, 14) - 0.5f))};
+        const auto want = kernel::nearestHitOfAll(ray, std::span<const Sphere>(scene.spheres));
+        const auto got = kernel::nearestHitInBvh(ray, std::span<const Sphere>(scene.spheres), bvh);
+        if (got.sphere != want.sphere) ++differ;
+      }
+      EXPECT_EQ(differ, 0) << name << (padding == BoxPadding::local ? " local" : " scene");
+    }
+  }
 }
 
 std::vector<test::NamedScene> exactnessScenes() {
