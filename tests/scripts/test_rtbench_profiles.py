@@ -271,7 +271,8 @@ def test_an_unknown_accel_is_rejected_naming_the_schemas(tmp_path):
 
 def test_a_scene_the_generator_makes_resolves_into_the_run_directory():
     assert profiles.resolve_scene("random7") == profiles.GENERATED_SCENES / "random7.json"
-    with pytest.raises(ProfileError, match="randomN"):
+    assert profiles.resolve_scene("crowd70") == profiles.GENERATED_SCENES / "crowd70.json"
+    with pytest.raises(ProfileError, match="randomN and groundN, clustersN"):
         profiles.resolve_scene("random0")
 
 
