@@ -209,7 +209,7 @@ def ground_scene(count: int, seed: int) -> dict:
     big = [(-4.0, 0.0), (0.0, 0.0), (4.0, 0.0)]
     small = count - 4
     cells = []
-    side = 1
+    side = 2 * math.isqrt(small) // 2 + 1  # odd, a little short of the cells needed
     while len(cells) < small:
         side += 2
         half = side // 2
