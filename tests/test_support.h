@@ -14,4 +14,10 @@ inline Scene loadNamedScene(const std::string& name) { return loadScene(scenePat
 
 inline constexpr const char* kSceneNames[] = {"default", "random20", "random100"};
 
+// The committed corpus of uneven sizes and density (scripts/rtbench/scenes.py):
+// a ground sphere of radius 1000, clusters, a crowd on a huge sphere, heavy-tailed
+// radii, nests of spheres inside spheres.
+inline constexpr const char* kCorpusSceneNames[] = {"ground500", "clusters500", "crowd500", "heavytail500",
+                                                    "nested200"};
+
 }  // namespace rt::test

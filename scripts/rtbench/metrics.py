@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from rtbench import names, stats
+from rtbench import names, scenes, stats
 
 GPU_PROCESSORS_FILE = names.REPO_ROOT / "data" / "gpu_processors.toml"
 
@@ -244,8 +244,11 @@ def sphere_curves(summary: pd.DataFrame, min_counts: int = MIN_SPHERE_COUNTS) ->
     """The summary rows that lie on a cost-vs-spheres curve: configurations
     equal but for the scene, with a positive median on at least `min_counts`
     distinct sphere counts. Column `curve` numbers the curves 0, 1, ...; rows
-    sorted by curve, then sphere count."""
-    usable = summary[(summary[names.SPHERES] > 0) & (summary["median"] > 0)]
+    sorted by curve, then sphere count. The corpus' scenes (groundN,
+    clustersN, ...: rtbench/scenes.py) differ from the uniform ones in
+    layout, not only in count, so no curve runs through them."""
+    corpus = summary[names.SCENE].map(lambda scene: scenes.family_of(str(scene)) in scenes.CORPUS_FAMILIES)
+    usable = summary[(summary[names.SPHERES] > 0) & (summary["median"] > 0) & ~corpus.astype(bool)]
     parts = []
     for _, group in usable.groupby(CURVE_KEYS, sort=False, dropna=False):
         if group[names.SPHERES].nunique() >= min_counts:

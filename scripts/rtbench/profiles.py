@@ -475,7 +475,8 @@ def _override(entry: dict, path: Path, index: int, variants: tuple[Variant, ...]
 
 def resolve_scene(arg: str, scenes_dir: Path = SCENES_DIR) -> Path:
     """A scene given by name means scenes/NAME.json, else, for a name the
-    generator makes (randomN), GENERATED_SCENES/NAME.json; a path is used as is."""
+    generator makes (randomN and the corpus' families, rtbench/scenes.py),
+    GENERATED_SCENES/NAME.json; a path is used as is."""
     candidate = Path(arg)
     if candidate.is_file():
         return candidate.resolve()
@@ -487,7 +488,7 @@ def resolve_scene(arg: str, scenes_dir: Path = SCENES_DIR) -> Path:
             return GENERATED_SCENES / f"{arg}.json"
         known = ", ".join(sorted(p.stem for p in scenes_dir.glob("*.json")))
         raise ProfileError(
-            f"no scene {arg!r}: {named} does not exist and the generator makes default and randomN "
-            f"only (scenes: {known})"
+            f"no scene {arg!r}: {named} does not exist and the generator makes default, randomN and "
+            f"{', '.join(f'{family}N' for family in scenes.CORPUS_FAMILIES)} only (scenes: {known})"
         )
     raise ProfileError(f"scene file {arg} does not exist")

@@ -1,3 +1,4 @@
+import itertools
 import json
 import subprocess
 import sys
@@ -125,3 +126,129 @@ def test_the_render_model_states_the_schema_limits(repo_root):
     limits = text[text.index("**Limits**") : text.index("**Rejection.**")]
     assert f"[-{written(max_magnitude)}, {written(max_magnitude)}]" in limits
     assert f"at least {written(min_length)}" in limits
+
+
+# --- the corpus (rtbench/scenes.py's docstring) --------------------------------------
+
+
+def _inside(inner, outer, slack=1e-3):
+    gap = sum((a - b) ** 2 for a, b in zip(inner["position"], outer["position"])) ** 0.5
+    return gap + inner["radius"] <= outer["radius"] + slack
+
+
+@pytest.mark.parametrize("family", scenes.CORPUS_FAMILIES)
+def test_each_family_is_named_sized_and_seeded_like_random(family):
+    name = f"{family}60"
+    assert scenes.family_of(name) == family
+    scene = scenes.recipe(name)()
+    assert len(scene["spheres"]) == 60
+    assert scenes.to_json(scene) == scenes.to_json(scenes.FAMILIES[family](60, seed=60))
+    assert scenes.to_json(scenes.FAMILIES[family](60, seed=1)) != scenes.to_json(scene)
+    for bad in (f"{family}0", f"{family}07", family):
+        assert scenes.recipe(bad) is None
+
+
+@pytest.mark.parametrize("name", scenes.CORPUS)
+def test_corpus_scenes_keep_the_scene_limits_and_the_camera_outside(name):
+    max_magnitude, min_length = scenes.schema.scene_limits()
+    scene = scenes.recipe(name)()
+    cam = scene["camera"]["position"]
+    spheres = scene["spheres"]
+    for s in spheres:
+        assert min_length <= s["radius"] <= max_magnitude
+        assert all(abs(v) <= max_magnitude for v in s["position"])
+        assert all(0.0 <= c <= 1.0 for c in s["color"])
+    # The camera orbits the origin at its height: outside every sphere all
+    # the way round (nested's sky holds it, by design).
+    orbit = (cam[0] ** 2 + cam[2] ** 2) ** 0.5
+    skies = [s for s in spheres if _inside({"position": cam, "radius": 0.0}, s)]
+    assert skies == ([spheres[0]] if name.startswith("nested") else [])
+    for s in spheres:
+        if s in skies:
+            continue
+        x, y, z = s["position"]
+        nearest = (((x * x + z * z) ** 0.5 - orbit) ** 2 + (y - cam[1]) ** 2) ** 0.5
+        assert nearest > s["radius"], f"{name}: the orbit passes through {s}"
+    size = len(scenes.to_json(scene))
+    assert size < 100_000, f"{name}: {size} bytes"
+
+
+def test_ground_is_one_sphere_of_radius_1000_touching_y0_under_small_ones():
+    spheres = scenes.recipe("ground500")()["spheres"]
+    radii = sorted(s["radius"] for s in spheres)
+    assert radii[-1] == 1000.0 and radii[-2] < 2.0
+    assert spheres[0]["radius"] == 1000.0 and spheres[0]["position"][1] + 1000.0 == 0.0
+    assert radii[-4:-1] == [1.0, 1.0, 1.0]
+    assert all(0.18 <= r <= 0.22 for r in radii[:-4])
+    for s in spheres[1:]:  # each rests on the ground, no two overlap
+        assert abs(_distance(s, spheres[0]) - 1000.0 - s["radius"]) < 1e-3
+    for a in range(1, len(spheres)):
+        for b in range(a + 1, len(spheres)):
+            assert _distance(spheres[a], spheres[b]) >= spheres[a]["radius"] + spheres[b]["radius"]
+
+
+def _distance(a, b):
+    return sum((p - q) ** 2 for p, q in zip(a["position"], b["position"])) ** 0.5
+
+
+def test_clusters_hold_most_spheres_and_differ_in_density():
+    import random
+
+    scene = scenes.recipe("clusters500")()
+    centres, radii, half = scenes.cluster_layout(500, random.Random(500))
+    assert len(centres) == scenes.CLUSTERS
+    spheres = scene["spheres"]
+    held = [
+        any(_distance(s, {"position": c}) + s["radius"] <= r + 1e-3 for c, r in zip(centres, radii)) for s in spheres
+    ]
+    assert sum(held) >= 0.95 * len(spheres)
+    assert all(abs(v) <= half + 0.3 for s in spheres for v in s["position"])
+    assert max(radii) / min(radii) > 2.0  # densities apart by more than 8x
+    assert max(r for r in radii) * 2 < half  # each ball small in its box
+
+
+def test_crowd_packs_small_spheres_on_a_huge_one_inside_a_ring_of_large_ones():
+    spheres = scenes.recipe("crowd500")()["spheres"]
+    huge, ring, crowd = spheres[0], spheres[1 : 1 + scenes.RING], spheres[1 + scenes.RING :]
+    assert huge["radius"] >= 100.0
+    assert all(s["radius"] == 6.0 for s in ring)
+    assert all(s["radius"] <= 0.15 for s in crowd)
+    reach = max((s["position"][0] ** 2 + s["position"][2] ** 2) ** 0.5 for s in crowd)
+    assert min((s["position"][0] ** 2 + s["position"][2] ** 2) ** 0.5 for s in ring) - 6.0 > 5 * reach
+    assert all(not _inside(s, huge) and _distance(s, huge) < huge["radius"] + 2.0 for s in crowd)
+
+
+def test_heavytail_radii_span_a_heavy_tail_within_their_box():
+    import statistics
+
+    radii = [s["radius"] for s in scenes.recipe("heavytail500")()["spheres"]]
+    assert max(radii) / statistics.median(radii) > 20
+    assert min(radii) >= scenes.PARETO_MIN - 1e-4
+    assert sum(r > 10 * statistics.median(radii) for r in radii) >= 3  # a tail, not one outlier
+
+
+def test_nested_spheres_sit_inside_their_parents():
+    spheres = scenes.recipe("nested200")()["spheres"]
+    sky = spheres[0]
+    assert all(_inside(s, sky) for s in spheres[1:])
+    # A nest is written outside in: each sphere lies in the one before it, or starts a nest.
+    children = [s for parent, s in itertools.pairwise(spheres[1:]) if _inside(s, parent)]
+    assert len(children) >= len(spheres) // 2
+    for parent, s in itertools.pairwise(spheres[1:]):
+        if s["radius"] < parent["radius"] and _distance(s, parent) < parent["radius"]:
+            assert _inside(s, parent, slack=0.0)
+    concentric = [
+        s for parent, s in itertools.pairwise(spheres[1:]) if _inside(s, parent) and _distance(s, parent) == 0
+    ]
+    assert 0 < len(concentric) < len(children)
+
+
+def test_the_families_draw_only_random():
+    """Random.random() is the one method whose bytes every Python 3 shares;
+    gauss, choice, randrange and paretovariate have changed between releases."""
+    import inspect
+
+    source = inspect.getsource(scenes)
+    body = source[source.index("# --- the corpus") :]
+    for method in ("gauss", "choice", "randrange", "randint", "paretovariate", "uniform(", "shuffle", "sample("):
+        assert f"rng.{method}" not in body, method

@@ -126,3 +126,20 @@ def test_power_law_fit_of_noisy_times_and_too_few_points():
     k, c, r2 = metrics.power_law_fit(n, 0.05 * n**0.7 * rng.lognormal(0.0, 0.05, n.size))
     assert k == pytest.approx(0.7, abs=0.05) and c == pytest.approx(0.05, rel=0.5) and 0.95 < r2 <= 1.0
     assert all(math.isnan(v) for v in metrics.power_law_fit([100, 100], [1.0, 2.0]))
+
+
+def test_the_corpus_scenes_lie_on_no_curve():
+    """ground500, crowd1000 and clusters10000 are three sphere counts of one
+    configuration, but three layouts: neither a curve of their own nor points
+    on the random scenes' curve."""
+    import pandas as pd
+
+    counts = {"random10": 10, "random100": 100, "random1000": 1000, "ground500": 500}
+    counts |= {"crowd1000": 1000, "clusters10000": 10000}
+    rows = [
+        {**dict.fromkeys(metrics.CURVE_KEYS, "same"), names.SCENE: scene, names.SPHERES: n, "median": 0.01 * n}
+        for scene, n in counts.items()
+    ]
+    curves = metrics.sphere_curves(pd.DataFrame(rows))
+    assert list(curves[names.SCENE]) == ["random10", "random100", "random1000"]
+    assert set(curves[metrics.CURVE]) == {0}

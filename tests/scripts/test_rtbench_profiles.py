@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from rtbench import configurations, names, profiles, schema
+from rtbench import configurations, names, profiles, scenes, schema
 from rtbench.profiles import ProfileError
 
 SHIPPED = sorted(p.stem for p in profiles.PROFILES_DIR.glob("*.toml"))
@@ -271,23 +271,34 @@ def test_an_unknown_accel_is_rejected_naming_the_schemas(tmp_path):
 
 def test_a_scene_the_generator_makes_resolves_into_the_run_directory():
     assert profiles.resolve_scene("random7") == profiles.GENERATED_SCENES / "random7.json"
-    with pytest.raises(ProfileError, match="randomN"):
+    assert profiles.resolve_scene("crowd70") == profiles.GENERATED_SCENES / "crowd70.json"
+    with pytest.raises(ProfileError, match="randomN and groundN, clustersN"):
         profiles.resolve_scene("random0")
 
 
 def _spheres(config):
-    return int(config.scene.removeprefix("random"))
+    return int(config.scene.removeprefix(scenes.family_of(config.scene)))
 
 
 def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow_cells_small():
     profile, configs = _expand("scene-size")
-    assert {_spheres(c) for c in configs} == {10, 100, 1000, 10000, 100000, 1000000}
+    uniform = [c for c in configs if scenes.family_of(c.scene) == "random"]
+    assert {_spheres(c) for c in uniform} == {10, 100, 1000, 10000, 100000, 1000000}
+    # The corpus beside them: each family at its committed size and at 10000, generated there.
+    corpus = {c.scene for c in configs} - {c.scene for c in uniform}
+    assert corpus == {*scenes.CORPUS, *(f"{family}10000" for family in scenes.CORPUS_FAMILIES)}
+    for c in configs:
+        if c.scene in scenes.CORPUS:
+            assert c.scene_path == str((profiles.SCENES_DIR / f"{c.scene}.json").resolve())
+        elif c.scene in corpus:
+            assert c.scene_path.startswith(str(profiles.GENERATED_SCENES))
+            assert names.accepts(c.renderer, "lanes") or c.renderer in names.OWN_ACCEL or c.renderer == "gpu"
     assert {c.variant.label for c in configs} == {"optimized"} and {(c.width, c.height) for c in configs} == {
         (800, 600)
     }
     for renderer in profile.renderers:
         for accel in [names.OWN_ACCEL[renderer]] if renderer in names.OWN_ACCEL else names.ACCELS:
-            counts = {_spheres(c) for c in configs if c.renderer == renderer and c.accel == accel}
+            counts = {_spheres(c) for c in uniform if c.renderer == renderer and c.accel == accel}
             assert len(counts) >= 3, (renderer, accel)
             if (
                 not names.accepts(renderer, "lanes")

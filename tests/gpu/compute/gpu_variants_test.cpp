@@ -1,9 +1,9 @@
 // The GPU renderer's traversal axes (docs/render-model.md section 3, "How
 // the GPU renderer walks the BVH"): every BVH, schedule and path gives the
 // bytes of the brute-force megakernel, for both algorithms, with and without
-// the bounce exit, on the committed scenes and the scenes built to break a
-// traversal; and the shader's counters agree across variants and with what
-// the frame must have traced. All under validation.
+// the bounce exit, on the committed scenes (the corpus too) and the scenes
+// built to break a traversal; and the shader's counters agree across
+// variants and with what the frame must have traced. All under validation.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -89,6 +89,13 @@ class GpuVariants : public ValidatedGpuTest {};
 // An odd size leaves partial tiles, which have ray numbers but no pixels.
 TEST_F(GpuVariants, CommittedScenesAreByteIdenticalToBruteForce) {
   for (const char* name : kSceneNames) expectEveryVariantMatchesBruteForce(loadNamedScene(name), {45, 29}, name);
+}
+
+// The corpus of uneven sizes and density (scripts/rtbench/scenes.py): a
+// radius of 1000 beside radii of 0.2, clusters, a crowd on a huge sphere,
+// heavy-tailed radii, the camera inside a sky around nests of spheres.
+TEST_F(GpuVariants, CorpusScenesAreByteIdenticalToBruteForce) {
+  for (const char* name : kCorpusSceneNames) expectEveryVariantMatchesBruteForce(loadNamedScene(name), {37, 21}, name);
 }
 
 // Exact ties, nested and touching spheres, a camera inside a huge sphere,

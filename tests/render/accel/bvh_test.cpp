@@ -1,11 +1,13 @@
 // The BVH: a well-formed tree over every sphere, and, for every CPU
 // renderer, byte-identical images with --accel bvh and --accel none on the
-// committed scenes, a 1000-sphere scene and scenes built to break it.
+// committed scenes (the corpus of uneven sizes too), a 1000-sphere scene
+// and scenes built to break it.
 #include "render/accel/bvh.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,9 +52,12 @@ void expectWellFormed(const Bvh& bvh, std::span<const Sphere> spheres, const std
 }
 
 TEST(Bvh, IsWellFormedOnEveryTestScene) {
-  for (const char* name : test::kSceneNames) {
-    const Scene scene = test::loadNamedScene(name);
-    expectWellFormed(buildBvh(scene.spheres), scene.spheres, name);
+  using Names = std::span<const char* const>;
+  for (const Names names : {Names(test::kSceneNames), Names(test::kCorpusSceneNames)}) {
+    for (const char* name : names) {
+      const Scene scene = test::loadNamedScene(name);
+      expectWellFormed(buildBvh(scene.spheres), scene.spheres, name);
+    }
   }
   for (const auto& [name, scene] : test::adversarialScenes())
     expectWellFormed(buildBvh(scene.spheres), scene.spheres, name);
@@ -171,6 +176,7 @@ TEST(Bvh, BothPaddingsFindBruteForcesHitForRaysFromAnywhere) {
 std::vector<test::NamedScene> exactnessScenes() {
   std::vector<test::NamedScene> scenes;
   for (const char* name : {"default", "random100"}) scenes.push_back({name, test::loadNamedScene(name)});
+  for (const char* name : test::kCorpusSceneNames) scenes.push_back({name, test::loadNamedScene(name)});
   for (auto& s : test::adversarialScenes()) scenes.push_back(std::move(s));
   return scenes;
 }

@@ -74,6 +74,7 @@ void checkSubtree(const WideBvh& wide, std::span<const Sphere> spheres, std::uin
 std::vector<test::NamedScene> wideScenes() {
   std::vector<test::NamedScene> scenes;
   for (const char* name : {"default", "random100"}) scenes.push_back({name, test::loadNamedScene(name)});
+  for (const char* name : test::kCorpusSceneNames) scenes.push_back({name, test::loadNamedScene(name)});
   for (auto& s : test::adversarialScenes()) scenes.push_back(std::move(s));
   // More coincident spheres than a vector holds: one leaf, tested a vector at a time.
   std::vector<Sphere> pile = test::randomSpheres(60, 6, 0.5f);
