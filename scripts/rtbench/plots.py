@@ -7,6 +7,7 @@ run has no data for that figure (e.g. no thread scaling in a `quick` run).
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -202,6 +203,8 @@ def _choice_note(left_out: int, what: str = "configurations") -> str:
 def _note(fig, text: str, above: str = "") -> None:
     """The figure's footnote, under `above` (a label of the whole figure's x
     axes): as its supxlabel, which tight_layout leaves room for."""
+    # Wrapped to the figure's width: about 17 characters of 7 pt text per inch.
+    text = textwrap.fill(text, max(40, int(17 * fig.get_size_inches()[0])))
     note = f"{above}\n" if above else ""
     fig.supxlabel(f"{note}{text}", fontsize=8 if above else 7, color="black" if above else "0.3")
 
@@ -234,7 +237,7 @@ def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
     devices = _devices(df[names.RENDERER])
     scenes = _scenes_by_size(df)
     most = max(df.groupby("_device")["_series"].nunique())
-    panel = max(4.2, 0.12 * most * len(scenes))  # inches: room for every bar and scene name
+    panel = max(4.2, 0.15 * most * len(scenes), 1.1 * len(scenes))  # inches: room for every bar and scene name
     fig, axes = plt.subplots(
         len(devices),
         len(stages_),
