@@ -249,6 +249,11 @@ NO_REORDER = _member("none", "gpu_rt_reorders", GPU_RT_REORDERS)
 # The renderers on a Vulkan device that time their frames' work on the device
 # (the gpu_ms column): the compute renderer and the ray-tracing pipeline.
 GPU_MS_RENDERERS: list[str] = [GPU_RENDERER, GPU_RT_RENDERER]
+# The peers: the renderer a user would otherwise pick on each backend (README,
+# "Architecture": Embree on the CPU, the driver's ray-tracing pipeline on the
+# GPU), which ours are measured against.
+EMBREE_RENDERER = _member("embree", "renderers", RENDERERS)
+PEERS: list[str] = [EMBREE_RENDERER, GPU_RT_RENDERER]
 # The render model's precision, which every renderer runs in (and every run
 # before the precision axis ran in), and the thesis' half precision.
 F32 = _member("f32", "precisions", PRECISIONS)

@@ -7,6 +7,7 @@ run has no data for that figure (e.g. no thread scaling in a `quick` run).
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -35,6 +36,13 @@ def save(fig, stem: Path) -> list[Path]:
         paths.append(path)
     plt.close(fig)
     return paths
+
+
+def _suptitle(fig, text: str) -> None:
+    """The figure's title, a fixed 0.06 inch below its top edge: tight_layout
+    leaves the title's height free above the axes, which the default place
+    (98 % of the height) overruns in a tall figure."""
+    fig.suptitle(text, y=1 - 0.06 / fig.get_size_inches()[1])
 
 
 def _log_y(ax, values, pad: float = 1.0) -> None:
@@ -70,11 +78,143 @@ def _several_sizes(df: pd.DataFrame) -> bool:
     return len(df[[names.WIDTH, names.HEIGHT]].drop_duplicates()) > 1
 
 
-def _palette(count: int):
-    """Distinct colours for up to 20 lines or bars (tab10, else tab20); they
-    repeat only beyond that."""
-    cmap = plt.get_cmap("tab10" if count <= 10 else "tab20")
-    return lambda i: cmap(i % cmap.N)
+# --- what a panel draws ----------------------------------------------------------
+
+# A panel draws at most this many series (lines, bar groups, boxes): beyond
+# about eight, colours and markers no longer tell them apart at a glance.
+MAX_SERIES = 8
+# The series' colours: tab10 less its red (frame_series' outlier crosses) and
+# its grey; black is the peers'. One per series of a panel, so none repeats.
+COLORS = [plt.get_cmap("tab10")(i) for i in (0, 1, 2, 4, 5, 6, 8, 9)]
+# The markers of the accels, in schema order (brute force first).
+ACCEL_MARKERS = "osD^v"
+# The peers (names.PEERS) in every figure: one style, defined here only.
+PEER_STYLE = {"color": "black", "linestyle": "--", "marker": "*"}
+# A series' line: solid, unless it is a peer's.
+LINE = "-"
+# Where a figure leaves configurations out, the table that has them all.
+ALL_CONFIGURATIONS = "tables/summary.md"
+# The keys of a series: a renderer, its accel and the image size and build it
+# ran at. Of its variants (traversal, GPU variant, threads and lanes) a figure
+# draws the fastest.
+SERIES_KEYS = [names.RENDERER, names.ACCEL, names.WIDTH, names.HEIGHT, names.BUILD_TYPE]
+# What is not a variant: where a configuration ran (a point of its series).
+POINT_KEYS = [names.SCENE, names.SPHERES, names.STAGE, names.ALGORITHM, names.EARLY_EXIT]
+CPU, GPU = "CPU", "GPU"
+
+
+def device_of(renderer: str) -> str:
+    """The panel a renderer draws in: CPU or GPU (their times differ by orders of magnitude)."""
+    return CPU if names.renders_on_cpu(renderer) else GPU
+
+
+def _devices(renderers) -> list[str]:
+    present = {device_of(r) for r in renderers}
+    return [d for d in (CPU, GPU) if d in present]
+
+
+def _key_text(df: pd.DataFrame, keys: list[str]) -> pd.Series:
+    """One string per row of the keys' values (NaN as 'nan'): a groupable id."""
+    return df[keys].astype(str).agg("|".join, axis=1) if len(df) else pd.Series([], dtype=str)
+
+
+def _ranked(rows: pd.DataFrame, by: str, point: str) -> list[str]:
+    """The values of `by`, fastest first: by the mean log median over the
+    points (`point`) that all of them ran, or each over its own where they
+    share none; ties keep the rows' order."""
+    groups = list(rows.groupby(by, sort=False))
+    shared = set.intersection(*(set(g[point]) for _, g in groups))
+    scores = []
+    for value, g in groups:
+        on = g[g[point].isin(shared)] if shared else g
+        scores.append((float(np.log(on["median"].astype(float)).mean()), value))
+    return [value for _, value in sorted(scores, key=lambda s: s[0])]
+
+
+def choose_series(rows: pd.DataFrame, point_keys: list[str]) -> tuple[pd.DataFrame, dict[str, dict], int]:
+    """The series a figure draws, from rows of a median each (`median`) per
+    configuration and point (`point_keys`: where it ran). Per series
+    (SERIES_KEYS) its fastest variant; per device (CPU, GPU) the peer, then
+    each renderer's fastest series, then its second, ..., at most MAX_SERIES
+    (a peer only its fastest).
+    Returns the chosen rows (columns _device and _series added, in schema
+    order), the style of each _series (PEER_STYLE for a peer, else a colour
+    of its own within the device and its accel's marker) and how many
+    configurations it left out."""
+    if rows.empty:
+        return rows.assign(_device=[], _series=[]), {}, 0
+    variant_keys = [k for k in names.CONFIG_KEYS if k in rows and k not in SERIES_KEYS + POINT_KEYS]
+    rows = rows.assign(
+        _device=rows[names.RENDERER].map(device_of),
+        _series=_key_text(rows, SERIES_KEYS),
+        _variant=_key_text(rows, variant_keys),
+        _point=_key_text(rows, point_keys),
+    )
+    variants = rows[["_series", "_variant"]].drop_duplicates()
+    best = {series: _ranked(g, "_variant", "_point")[0] for series, g in rows.groupby("_series", sort=False)}
+    rows = rows[rows["_variant"] == rows["_series"].map(best)]
+    kept, styles = [], {}
+    for device in _devices(rows[names.RENDERER]):
+        part = rows[rows["_device"] == device]
+        rank = {}
+        for _, g in part.groupby(names.RENDERER, sort=False):
+            rank.update({series: i for i, series in enumerate(_ranked(g, "_series", "_point"))})
+        first = part.drop_duplicates("_series")
+        order = sorted(
+            first.to_dict("records"),
+            key=lambda r: (
+                r[names.RENDERER] not in names.PEERS,
+                rank[r["_series"]],
+                names.renderer_order(r[names.RENDERER]),
+            ),
+        )
+        # A peer draws once: PEER_STYLE tells no two of its series apart.
+        order = [r for r in order if r[names.RENDERER] not in names.PEERS or rank[r["_series"]] == 0]
+        chosen = {r["_series"] for r in order[:MAX_SERIES]}
+        drawn = first[first["_series"].isin(chosen)]
+        drawn = drawn.assign(
+            _r=drawn[names.RENDERER].map(names.renderer_order), _a=drawn[names.ACCEL].map(names.accel_order)
+        ).sort_values(["_r", "_a", names.WIDTH, names.HEIGHT], kind="stable")
+        colour = iter(COLORS)
+        for r in drawn.to_dict("records"):
+            marker = ACCEL_MARKERS[names.accel_order(r[names.ACCEL]) % len(ACCEL_MARKERS)]
+            peer = r[names.RENDERER] in names.PEERS
+            styles[r["_series"]] = (
+                dict(PEER_STYLE) if peer else {"color": next(colour), "linestyle": LINE, "marker": marker}
+            )
+        kept += list(drawn["_series"])
+    chosen_rows = rows[rows["_series"].isin(kept)]
+    chosen_rows = chosen_rows.iloc[np.argsort([kept.index(s) for s in chosen_rows["_series"]], kind="stable")]
+    left_out = len(variants) - len(kept)
+    return chosen_rows.drop(columns=["_variant", "_point"]), styles, left_out
+
+
+def _choice_note(left_out: int, what: str = "configurations") -> str:
+    """The figure's footnote: what each panel draws, and where the rest are."""
+    text = (
+        f"Each panel: per renderer, accel and size its fastest configuration, at most {MAX_SERIES}; "
+        f"the peers ({', '.join(names.PEERS)}; one configuration each) in black."
+    )
+    if left_out:
+        text += f" Not drawn: {left_out} more {what}, all in {ALL_CONFIGURATIONS}."
+    return text
+
+
+def _note(fig, text: str, above: str = "") -> None:
+    """The figure's footnote, under `above` (a label of the whole figure's x
+    axes): as its supxlabel, which tight_layout leaves room for."""
+    # Wrapped to the figure's width: about 17 characters of 7 pt text per inch.
+    text = textwrap.fill(text, max(40, int(17 * fig.get_size_inches()[0])))
+    note = f"{above}\n" if above else ""
+    fig.supxlabel(f"{note}{text}", fontsize=8 if above else 7, color="black" if above else "0.3")
+
+
+def _indexed_style(i: int, renderer: str = "") -> dict:
+    """The style of the i-th line of a figure that picks no series (scaling,
+    Karp-Flatt): colour and marker both its own, PEER_STYLE for a peer."""
+    if renderer in names.PEERS:
+        return dict(PEER_STYLE)
+    return {"color": COLORS[i % len(COLORS)], "linestyle": LINE, "marker": "osD^v<>p"[i % 8]}
 
 
 def _option_texts(row) -> list[str]:
@@ -83,56 +223,81 @@ def _option_texts(row) -> list[str]:
 
 
 def render_bars(summary: pd.DataFrame, stem: Path) -> list[Path]:
-    """Median render_ms per renderer x scene, one panel per stage, log scale,
-    with the bootstrap CI of the median as error bars. One bar per renderer,
-    accel and size: its configuration with the most threads x lanes, as in
-    tables 1-4 (the other thread counts and lane widths are in the scaling
-    and Karp-Flatt figures)."""
+    """Median render_ms per renderer x scene, one panel per device (rows:
+    CPU, GPU) and stage (columns), log scale, with the bootstrap CI of the
+    median as error bars. The bars of bar_rows: per renderer, accel and size
+    its fastest variant at the most threads x lanes (as in tables 1-4; the
+    other thread counts and lane widths are in the scaling and Karp-Flatt
+    figures), at most MAX_SERIES per panel."""
     if summary.empty:
         return []
     df = bar_rows(summary)
+    styles, left_out = df.attrs["styles"], df.attrs["left_out"]
     stages_ = _ordered(df[names.STAGE], names.stage_order)
+    devices = _devices(df[names.RENDERER])
     scenes = _scenes_by_size(df)
-    labels = _ordered(df["_label"], lambda text: names.renderer_order(text.split(" ")[0]))
-    panel = max(4.2, 0.12 * len(labels) * len(scenes))  # inches: room for every bar and scene name
-    fig, axes = plt.subplots(1, len(stages_), figsize=(panel * len(stages_) + 1, 3.8), sharey=True, squeeze=False)
-    width = 0.8 / max(len(labels), 1)
-    colors = _palette(len(labels))
-    for ax, stage in zip(axes[0], stages_):
-        part = df[df[names.STAGE] == stage]
-        for i, label in enumerate(labels):
-            _bars(
-                ax,
-                part[part["_label"] == label],
-                scenes,
-                (i - (len(labels) - 1) / 2) * width,
-                width,
-                label=label,
-                color=colors(i),
-            )
-        _log_y(ax, np.concatenate([df["ci_low"].to_numpy(dtype=float), df["ci_high"].to_numpy(dtype=float)]), pad=1.6)
-        ax.set_title(f"stage {stage}")
-        ax.set_xticks(np.arange(len(scenes)), scenes)
-        ax.grid(axis="y", which="both", alpha=0.3)
-    axes[0][0].set_ylabel("render_ms per frame (median, log scale)")
-    handles = {h.get_label(): h for ax in axes[0] for h in ax.get_legend_handles_labels()[0]}
-    axes[0][-1].legend(
-        [handles[label] for label in labels if label in handles],
-        [label for label in labels if label in handles],
-        fontsize=7,
-        loc="upper left",
-        bbox_to_anchor=(1.02, 1),
+    most = max(df.groupby("_device")["_series"].nunique())
+    panel = max(4.2, 0.15 * most * len(scenes), 1.1 * len(scenes))  # inches: room for every bar and scene name
+    fig, axes = plt.subplots(
+        len(devices),
+        len(stages_),
+        figsize=(panel * len(stages_) + 2.4, 3.4 * len(devices) + 0.5),
+        sharey="row",
+        squeeze=False,
     )
-    fig.suptitle(f"Render time per frame ({_size_text(df)})")
+    for row, device in zip(axes, devices):
+        part = df[df["_device"] == device]
+        series = list(pd.unique(part["_series"]))
+        width = 0.8 / len(series)
+        for ax, stage in zip(row, stages_):
+            here = part[part[names.STAGE] == stage]
+            for i, key in enumerate(series):
+                rows = here[here["_series"] == key]
+                label = part.loc[part["_series"] == key, "_label"].iloc[0]
+                _bars(
+                    ax, rows, scenes, (i - (len(series) - 1) / 2) * width, width, label=label, **_bar_style(styles[key])
+                )
+            _log_y(
+                ax,
+                np.concatenate([part["ci_low"].to_numpy(dtype=float), part["ci_high"].to_numpy(dtype=float)]),
+                pad=1.6,
+            )
+            ax.set_title(f"{device}, stage {stage}")
+            ax.set_xticks(np.arange(len(scenes)), scenes)
+            ax.grid(axis="y", which="both", alpha=0.3)
+        row[0].set_ylabel(f"{device}: render_ms per frame\n(median, log scale)")
+        handles = {h.get_label(): h for ax in row for h in ax.get_legend_handles_labels()[0]}
+        labels = [part.loc[part["_series"] == key, "_label"].iloc[0] for key in series]
+        row[-1].legend(
+            [handles[label] for label in labels if label in handles],
+            [label for label in labels if label in handles],
+            fontsize=7,
+            loc="upper left",
+            bbox_to_anchor=(1.02, 1),
+        )
+    _suptitle(fig, f"Render time per frame ({_size_text(df)})")
+    _note(fig, _choice_note(left_out))
     return save(fig, stem)
+
+
+def _bar_style(style: dict) -> dict:
+    """A series' line style as a bar's: its colour, a peer's bar hollow and
+    hatched in PEER_STYLE's colour (a bar has no marker or dash)."""
+    if style == PEER_STYLE:
+        return {"facecolor": "white", "edgecolor": PEER_STYLE["color"], "hatch": "////"}
+    return {"color": style["color"]}
 
 
 def bar_rows(summary: pd.DataFrame) -> pd.DataFrame:
     """The configurations render_bars draws, with their legend label in
     `_label`: per scene, renderer, stage, accel and size the one with the
-    most threads x lanes."""
+    most threads x lanes, then choose_series' choice of them. Their styles
+    are in attrs["styles"], the count of the others in attrs["left_out"]."""
     widest = tables.widest_rows(summary)
-    return widest.assign(_label=widest.apply(_renderer_label, axis=1, with_size=_several_sizes(widest)))
+    chosen, styles, left_out = choose_series(widest, [names.STAGE, names.SCENE])
+    out = chosen.assign(_label=chosen.apply(_renderer_label, axis=1, with_size=_several_sizes(widest)))
+    out.attrs.update(styles=styles, left_out=left_out)
+    return out
 
 
 def _bars(ax, rows: pd.DataFrame, scenes: list[str], offset: float, width: float, **style) -> None:
@@ -176,18 +341,21 @@ def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     keys = [names.RENDERER, names.LANES, names.ACCEL, names.TRAVERSAL, names.HYBRID_THRESHOLD, *names.GPU_AXES]
     keys += [names.SCENE, names.STAGE, names.WIDTH, names.HEIGHT]
-    for key, group in scaling.groupby(keys, sort=False, dropna=False):
+    lines = list(scaling.groupby(keys, sort=False, dropna=False))
+    for i, (key, group) in enumerate(lines[:MAX_SERIES]):
         renderer, lanes, scene, stage = key[0], key[1], key[-4], key[-3]
         lane_text = f" l{lanes}" if lanes > 1 else ""
         accel_text = "".join(f" {tag}" for tag in names.accel_tag(group.iloc[0]))
         ax.plot(
             group[names.THREADS],
             group["scaling_speedup"],
-            marker="o",
+            **_indexed_style(i, renderer),
             label=f"{renderer}{lane_text}{accel_text} {scene} {stage}",
         )
+    if len(lines) > MAX_SERIES:
+        _note(fig, f"Not drawn: {len(lines) - MAX_SERIES} more lines; every speedup is in tables/metrics.md.")
     top = int(scaling[names.THREADS].max())
-    ax.plot([1, top], [1, top], "k--", linewidth=1, label="ideal")
+    ax.plot([1, top], [1, top], color="0.5", linestyle=":", linewidth=1, label="ideal")
     ax.set_xlabel("threads")
     ax.set_ylabel("speedup over fewest threads (median render_ms)")
     ax.set_xticks(sorted(pd.unique(scaling[names.THREADS])))
@@ -198,12 +366,37 @@ def speedup_vs_threads(scaling: pd.DataFrame, stem: Path) -> list[Path]:
 
 
 def _grid(frames: pd.DataFrame):
+    """A row per stage and device that ran in it, a column per scene."""
     stages_ = _ordered(frames[names.STAGE], names.stage_order)
+    rows = [
+        (stage, device)
+        for stage in stages_
+        for device in _devices(frames.loc[frames[names.STAGE] == stage, names.RENDERER])
+    ]
     scenes = list(pd.unique(frames[names.SCENE]))
     fig, axes = plt.subplots(
-        len(stages_), len(scenes), figsize=(4.0 * len(scenes) + 1.5, 2.8 * len(stages_) + 0.6), squeeze=False
+        len(rows), len(scenes), figsize=(4.4 * len(scenes) + 1.5, 2.9 * len(rows) + 0.8), squeeze=False
     )
-    return fig, axes, stages_, scenes
+    return fig, axes, rows, scenes
+
+
+def frame_choice(frames: pd.DataFrame) -> tuple[pd.DataFrame, dict[str, dict], int]:
+    """The frames of the configurations frame_series and distributions draw:
+    those render_bars draws (bar_rows: the most threads x lanes, then
+    choose_series), chosen by the median of their measured frames; with
+    choose_series' styles and count of the others."""
+    meas = stats.measured(frames)
+    if meas.empty:
+        return frames.iloc[0:0].assign(_device=[], _series=[]), {}, 0
+    configs = meas.groupby(names.CONFIG_ID, sort=False)
+    per_config = configs.first().assign(median=configs[names.RENDER_MS].median()).reset_index()
+    chosen, styles, left_out = choose_series(tables.widest_rows(per_config), [names.STAGE, names.SCENE])
+    keep = chosen[[names.CONFIG_ID, "_device", "_series"]]
+    order = {config: i for i, config in enumerate(keep[names.CONFIG_ID])}
+    # `_frame_index`: the frame's row in `frames`, where stats.flag_outliers has its flag.
+    out = frames.assign(_frame_index=frames.index).merge(keep, on=names.CONFIG_ID, how="inner", sort=False)
+    out = out.iloc[np.argsort(out[names.CONFIG_ID].map(order).to_numpy(), kind="stable")]
+    return out, styles, left_out
 
 
 def _config_label(group: pd.DataFrame, with_size: bool = False) -> str:
@@ -213,58 +406,83 @@ def _config_label(group: pd.DataFrame, with_size: bool = False) -> str:
 def frame_series(frames: pd.DataFrame, stem: Path) -> list[Path]:
     """render_ms of every frame in run order (repetitions one after another),
     warm-up frames hollow, flagged outliers crossed; one panel per stage x
-    scene. Shows warm-up effects, drift and spikes that a median hides."""
+    device x scene, the configurations of frame_choice. Shows warm-up
+    effects, drift and spikes that a median hides."""
     if frames.empty:
         return []
-    fig, axes, stages_, scenes = _grid(frames)
     outliers = stats.flag_outliers(frames)
+    drawn, styles, left_out = frame_choice(frames)
+    if drawn.empty:
+        return []
+    fig, axes, rows, scenes = _grid(drawn)
     with_size = _several_sizes(frames)
-    for (i, stage), (j, scene) in ((a, b) for a in enumerate(stages_) for b in enumerate(scenes)):
+    for (i, (stage, device)), (j, scene) in ((a, b) for a in enumerate(rows) for b in enumerate(scenes)):
         ax = axes[i][j]
-        part = frames[(frames[names.STAGE] == stage) & (frames[names.SCENE] == scene)]
-        configs = part.groupby(names.CONFIG_ID, sort=False)
-        colors = _palette(configs.ngroups)
-        for k, (_, group) in enumerate(configs):
+        part = drawn[(drawn[names.STAGE] == stage) & (drawn[names.SCENE] == scene) & (drawn["_device"] == device)]
+        for _, group in part.groupby(names.CONFIG_ID, sort=False):
             group = group.sort_values([names.REPETITION, names.FRAME])
+            style = styles[group["_series"].iloc[0]]
+            color, marker = style["color"], style["marker"]
             x = np.arange(len(group))
-            color = colors(k)
             warm = group[names.WARMUP].to_numpy() == 1
             y = group[names.RENDER_MS].to_numpy()
-            ax.plot(x, y, color=color, linewidth=0.8, label=_config_label(group, with_size))
+            ax.plot(
+                x, y, color=color, linestyle=style["linestyle"], linewidth=0.8, label=_config_label(group, with_size)
+            )
             # The markers, one per frame, as pixels in the SVG too: as vector
             # paths a run of a few hundred configurations drew a 2 MB file.
-            ax.scatter(x[~warm], y[~warm], color=color, s=8, rasterized=True)
-            ax.scatter(x[warm], y[warm], facecolors="none", edgecolors=color, s=14, rasterized=True)
-            flagged = outliers.loc[group.index].to_numpy()
+            ax.scatter(x[~warm], y[~warm], color=color, marker=marker, s=8, rasterized=True)
+            ax.scatter(x[warm], y[warm], facecolors="none", edgecolors=color, marker=marker, s=14, rasterized=True)
+            flagged = outliers.loc[group["_frame_index"]].to_numpy()
             ax.scatter(x[flagged], y[flagged], color="red", marker="x", s=30, zorder=3, rasterized=True)
             for boundary in np.flatnonzero(np.diff(group[names.REPETITION].to_numpy())) + 0.5:
                 ax.axvline(boundary, color="grey", linestyle=":", linewidth=0.8)
         _log_y(ax, part[names.RENDER_MS])
         ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
-        ax.set_title(f"{scene}, {stage}", fontsize=8)
+        ax.set_title(f"{device}: {scene}, {stage}", fontsize=8)
         ax.grid(alpha=0.3, which="both")
         if len(part):
-            ax.legend(fontsize=6, ncol=1 if configs.ngroups <= 10 else 2)
-    fig.supxlabel("frame, repetitions in run order, dotted: next repetition (hollow: warm-up; red x: outlier)")
+            ax.legend(fontsize=6)
     fig.supylabel("render_ms (log scale)")
+    _note(
+        fig,
+        _choice_note(left_out),
+        "frame, repetitions in run order, dotted: next repetition (hollow: warm-up; red x: outlier)",
+    )
     return save(fig, stem)
 
 
 def distributions(frames: pd.DataFrame, stem: Path) -> list[Path]:
     """Box plots of the measured frame times per configuration; one panel per
-    stage x scene, log scale."""
+    stage x device x scene, the configurations of frame_choice, log scale."""
     meas = stats.measured(frames)
     if meas.empty:
         return []
-    fig, axes, stages_, scenes = _grid(meas)
+    drawn, styles, left_out = frame_choice(meas)
+    fig, axes, rows, scenes = _grid(drawn)
     with_size = _several_sizes(meas)
-    for (i, stage), (j, scene) in ((a, b) for a in enumerate(stages_) for b in enumerate(scenes)):
+    for (i, (stage, device)), (j, scene) in ((a, b) for a in enumerate(rows) for b in enumerate(scenes)):
         ax = axes[i][j]
-        part = meas[(meas[names.STAGE] == stage) & (meas[names.SCENE] == scene)]
+        part = drawn[(drawn[names.STAGE] == stage) & (drawn[names.SCENE] == scene) & (drawn["_device"] == device)]
         groups = [g for _, g in part.groupby(names.CONFIG_ID, sort=False)]
-        groups.sort(key=lambda g: names.renderer_order(g[names.RENDERER].iloc[0]))
         if groups:
-            ax.boxplot([g[names.RENDER_MS].to_numpy() for g in groups], showmeans=True, widths=0.6)
+            boxes = ax.boxplot(
+                [g[names.RENDER_MS].to_numpy() for g in groups],
+                showmeans=True,
+                widths=0.6,
+                patch_artist=True,
+                medianprops={"color": "black"},
+                meanprops={"markerfacecolor": "white", "markeredgecolor": "black"},
+            )
+            for k, g in enumerate(groups):
+                style = styles[g["_series"].iloc[0]]
+                peer = style == PEER_STYLE
+                box = boxes["boxes"][k]
+                box.set_facecolor("white" if peer else (*style["color"][:3], 0.35))
+                box.set_edgecolor(style["color"])
+                box.set_linestyle(style["linestyle"])
+                if peer:
+                    box.set_hatch("////")
             ax.set_xticks(
                 range(1, len(groups) + 1),
                 [_config_label(g, with_size) for g in groups],
@@ -273,82 +491,113 @@ def distributions(frames: pd.DataFrame, stem: Path) -> list[Path]:
                 fontsize=7,
             )
         _log_y(ax, part[names.RENDER_MS])
-        ax.set_title(f"{scene}, {stage}", fontsize=8)
+        ax.set_title(f"{device}: {scene}, {stage}", fontsize=8)
         ax.grid(axis="y", alpha=0.3, which="both")
     fig.supylabel("render_ms of measured frames (log scale)")
-    fig.suptitle("Frame-time distributions (box: quartiles, whiskers 1.5 IQR, triangle: mean)")
+    _suptitle(fig, "Frame-time distributions (box: quartiles, line: median, whiskers 1.5 IQR, triangle: mean)")
+    _note(fig, _choice_note(left_out))
     return save(fig, stem)
 
 
 def thesis_speedups(side: pd.DataFrame, stem: Path) -> list[Path]:
     """Speedup over the reference per renderer and stage, thesis vs ours, for
-    one scene (log scale): the comparable part of the two studies."""
+    one scene (log scale), the CPU and the GPU renderers in panels of their
+    own: the comparable part of the two studies."""
     if side.empty:
         return []
     side = side.astype({"thesis": float, "ours": float})
     side = side[np.isfinite(side["thesis"]) & np.isfinite(side["ours"])]
     if side.empty:
         return []
-    labels = [f"{r}\n{s}" for r, s in zip(side["renderer"], side["stage"])]
-    x = np.arange(len(side))
-    fig, ax = plt.subplots(figsize=(max(5.0, 0.7 * len(side) + 1.5), 4.0))
-    ax.bar(x - 0.2, side["thesis"], 0.4, label="thesis (M1, -O0)")
-    ax.bar(x + 0.2, side["ours"], 0.4, label="ours")
-    ax.axhline(1.0, color="k", linewidth=0.8)
-    _log_y(ax, np.concatenate([side["thesis"].to_numpy(), side["ours"].to_numpy(), [1.0]]))
-    ax.set_xticks(x, labels, fontsize=7)
-    ax.set_ylabel(f"speedup over {names.reference_renderer()} (log scale)")
-    ax.set_title(f"Speedups, thesis vs ours: {side['scene'].iloc[0]}")
-    ax.grid(axis="y", alpha=0.3, which="both")
-    ax.legend()
+    side = side.assign(_device=side["renderer"].map(device_of))
+    devices = _devices(side["renderer"])
+    counts = [int((side["_device"] == d).sum()) for d in devices]
+    fig, axes = plt.subplots(
+        1,
+        len(devices),
+        figsize=(max(5.0, 0.7 * len(side) + 0.8 * len(devices) + 1.5), 4.0),
+        sharey=True,
+        squeeze=False,
+        gridspec_kw={"width_ratios": counts},
+    )
+    every = np.concatenate([side["thesis"].to_numpy(), side["ours"].to_numpy(), [1.0]])
+    for ax, device in zip(axes[0], devices):
+        part = side[side["_device"] == device]
+        labels = [f"{r}\n{s}" for r, s in zip(part["renderer"], part["stage"])]
+        x = np.arange(len(part))
+        ax.bar(x - 0.2, part["thesis"], 0.4, label="thesis (M1, -O0)", color=COLORS[0])
+        ax.bar(x + 0.2, part["ours"], 0.4, label="ours", color=COLORS[1])
+        ax.axhline(1.0, color="k", linewidth=0.8)
+        _log_y(ax, every)
+        ax.set_xticks(x, labels, fontsize=7)
+        ax.set_title(device)
+        ax.grid(axis="y", alpha=0.3, which="both")
+    axes[0][0].set_ylabel(f"speedup over {names.reference_renderer()} (log scale)")
+    axes[0][0].legend()
+    _suptitle(fig, f"Speedups, thesis vs ours: {side['scene'].iloc[0]}")
     return save(fig, stem)
 
 
-# Markers of the accels in the cost-vs-spheres figure, in schema order.
-ACCEL_MARKERS = "osD^v"
-
-
 def cost_vs_spheres(curves: pd.DataFrame, fits: pd.DataFrame, stem: Path) -> list[Path]:
-    """Median render_ms vs sphere count, log-log, one line per configuration
-    that ran on several sphere counts (metrics.sphere_curves), its fitted
-    power law dashed and its exponent k in the legend."""
+    """Median render_ms vs sphere count, log-log, one panel per device (rows:
+    CPU, GPU) and stage (columns): a line per series of choose_series that
+    ran on several sphere counts (metrics.sphere_curves), its fitted power
+    law as a line and its exponent k in the legend. Every fit is in the
+    cost-vs-spheres table."""
     if fits.empty:
         return []
-    fig, ax = plt.subplots(figsize=(8.4, 4.6))
-    colors = _palette(len(fits))
-    label_keys = _varying(fits, [names.STAGE, names.WIDTH, names.HEIGHT, names.BUILD_TYPE])
-    for i, fit in enumerate(fits.itertuples(index=False)):
-        fit = fit._asdict()
-        points = curves[curves[metrics.CURVE] == fit[metrics.CURVE]]
-        color = colors(i)
-        marker = ACCEL_MARKERS[names.accel_order(fit[names.ACCEL]) % len(ACCEL_MARKERS)]
-        label = " ".join(
-            [
-                fit[names.RENDERER],
-                *_option_texts(fit),
-                fit[names.ACCEL],
-                *names.variant_tag(fit),
-                *(str(fit[key]) for key in label_keys),
-            ]
-        )
-        ax.plot(
-            points[names.SPHERES],
-            points["median"],
-            marker=marker,
-            linestyle="none",
-            color=color,
-            label=f"{label}: k = {fit['exponent']:.2f}",
-        )
-        n = np.geomspace(fit["spheres_min"], fit["spheres_max"], 32)
-        ax.plot(n, fit["coefficient"] * n ** fit["exponent"], linestyle="--", linewidth=1, color=color)
-    ax.set_xscale("log")
-    _log_y(ax, curves["median"], pad=1.4)
-    ax.set_xlabel("spheres N (log scale)")
-    ax.set_ylabel("render_ms per frame (median, log scale)")
-    ax.grid(alpha=0.3, which="both")
-    # Beside the axes: inside, it hides the points of the cheapest lines.
-    ax.legend(fontsize=7, title="dashed: fit ms = c N^k", title_fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1))
-    ax.set_title(f"Cost vs spheres ({_size_text(curves)})")
+    chosen, styles, left_out = choose_series(curves, [names.STAGE, names.SPHERES])
+    stages_ = _ordered(chosen[names.STAGE], names.stage_order)
+    devices = _devices(chosen[names.RENDERER])
+    fig, axes = plt.subplots(
+        len(devices), len(stages_), figsize=(4.6 * len(stages_) + 0.4, 5.6 * len(devices) + 0.4), squeeze=False
+    )
+    fit_of = fits.set_index(metrics.CURVE)
+    with_size = _several_sizes(fits)
+    label_keys = _varying(fits, [names.BUILD_TYPE])
+    for row, device in zip(axes, devices):
+        for ax, stage in zip(row, stages_):
+            part = chosen[(chosen["_device"] == device) & (chosen[names.STAGE] == stage)]
+            for curve, points in part.groupby(metrics.CURVE, sort=False):
+                fit = {metrics.CURVE: curve, **fit_of.loc[curve].to_dict()}
+                style = styles[points["_series"].iloc[0]]
+                label = " ".join(
+                    [
+                        fit[names.RENDERER],
+                        *_option_texts(fit),
+                        fit[names.ACCEL],
+                        *names.variant_tag(fit),
+                        *([f"{fit[names.WIDTH]}x{fit[names.HEIGHT]}"] if with_size else []),
+                        *(str(fit[key]) for key in label_keys),
+                    ]
+                )
+                ax.plot(
+                    points[names.SPHERES],
+                    points["median"],
+                    marker=style["marker"],
+                    linestyle="none",
+                    color=style["color"],
+                    label=f"{label}: k = {fit['exponent']:.2f}",
+                )
+                n = np.geomspace(fit["spheres_min"], fit["spheres_max"], 32)
+                ax.plot(
+                    n,
+                    fit["coefficient"] * n ** fit["exponent"],
+                    linestyle=style["linestyle"],
+                    linewidth=1,
+                    color=style["color"],
+                )
+            ax.set_xscale("log")
+            _log_y(ax, chosen.loc[chosen["_device"] == device, "median"], pad=1.4)
+            ax.set_xlabel("spheres N (log scale)")
+            ax.set_title(f"{device}, stage {stage}")
+            ax.grid(alpha=0.3, which="both")
+            # Below the axes: inside, it hides the points of the cheapest lines.
+            if len(part):
+                ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16))
+        row[0].set_ylabel(f"{device}: render_ms per frame\n(median, log scale)")
+    _suptitle(fig, f"Cost vs spheres ({_size_text(curves)}); lines: fit ms = c N^k")
+    _note(fig, _choice_note(left_out) + " Every fit: tables/cost-vs-spheres.md.")
     return save(fig, stem)
 
 
@@ -376,19 +625,23 @@ def karp_flatt_vs_p(metrics_table: pd.DataFrame, stem: Path) -> list[Path]:
     label_keys = _varying(
         pd.concat(families), [names.SCENE, names.STAGE, names.ACCEL, names.TRAVERSAL, names.WIDTH, names.BUILD_TYPE]
     )
+    lines = []
     for family in families:
         renderer = family[names.RENDERER].iloc[0]
         by_lanes = names.accepts(renderer, names.THREADS)
         for lanes, line in family.groupby(names.LANES, sort=True) if by_lanes else [(None, family)]:
-            line = line.sort_values("p")
-            text = " ".join(
-                [
-                    renderer,
-                    *([f"l{lanes}"] if lanes and lanes > 1 else []),
-                    *(str(line[key].iloc[0]) for key in label_keys),
-                ]
-            )
-            ax.plot(line["p"], line["karp_flatt"], marker="o", label=text)
+            lines.append((renderer, lanes, line.sort_values("p")))
+    for i, (renderer, lanes, line) in enumerate(lines[:MAX_SERIES]):
+        text = " ".join(
+            [
+                renderer,
+                *([f"l{lanes}"] if lanes and lanes > 1 else []),
+                *(str(line[key].iloc[0]) for key in label_keys),
+            ]
+        )
+        ax.plot(line["p"], line["karp_flatt"], **_indexed_style(i, renderer), label=text)
+    if len(lines) > MAX_SERIES:
+        _note(fig, f"Not drawn: {len(lines) - MAX_SERIES} more lines; every e is in tables/metrics.md.")
     ax.set_xscale("log", base=2)
     ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     ax.set_xlabel("p = threads x lanes (log scale)")
