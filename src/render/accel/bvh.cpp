@@ -500,18 +500,44 @@ double surfaceArea(const BvhNode& n, double widenedBy) {
   return 2 * (x * y + y * z + z * x);
 }
 
-// padPrice() on the tight boxes, the node extents already taken.
-double padPriceOfTightTree(const Bvh& bvh, std::span<const NodeExtent> extents, float origin, BoxPadding padding) {
+// Where a scene's rays mostly go: between the 5th and the 95th percentile
+// of the sphere centres on each axis, so that one huge sphere (a ground of
+// radius 1000 under spheres of radius 0.2) does not stand for the scene the
+// way the root's box would.
+BvhNode typicalRegion(std::span<const Sphere> spheres) {
+  BvhNode region{};
+  std::vector<float> values(spheres.size());
+  const auto low = static_cast<std::ptrdiff_t>(spheres.size() / 20);
+  const auto high = static_cast<std::ptrdiff_t>(spheres.size() - 1 - spheres.size() / 20);
+  for (int a = 0; a < 3; ++a) {
+    std::ranges::transform(spheres, values.begin(), [a](const Sphere& s) { return s.position[a]; });
+    std::ranges::nth_element(values, values.begin() + low);
+    region.lo[a] = values[static_cast<std::size_t>(low)];
+    std::ranges::nth_element(values, values.begin() + high);
+    region.hi[a] = values[static_cast<std::size_t>(high)];
+  }
+  return region;
+}
+
+// padPrice() on the tight boxes, the node extents already taken: the
+// surface-area heuristic with each box's chance of being reached taken
+// against the typical region (and at most 1), a visit costing one and a
+// leaf's spheres one each.
+double padPriceOfTightTree(const Bvh& bvh, std::span<const NodeExtent> extents, std::span<const Sphere> spheres,
+                           BoxPadding padding) {
+  const float origin = typicalOrigin(spheres);
   const double sceneShare = traversalPad(bvh.maxRadius, bvh.maxCoordinate, origin);
   const double rayShare = RT_BVH_PAD_SCALE * origin + RT_BVH_PAD_MIN + double(localOriginSlope()) * origin;
   const auto widening = [&](std::size_t i) {
     return padding == BoxPadding::scene ? sceneShare : 2 * localBoxPad(extents[i]) + rayShare;
   };
-  const double root = surfaceArea(bvh.nodes[0], widening(0));
+  double region = surfaceArea(typicalRegion(spheres), 0.0);
+  if (!(region > 0.0)) region = surfaceArea(bvh.nodes[0], 0.0);
   double price = 0.0;
   for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
     const BvhNode& n = bvh.nodes[i];
-    price += surfaceArea(n, widening(i)) / root * (n.leaf() ? double(n.count()) + 1.0 : 1.0);
+    const double reached = std::min(1.0, surfaceArea(n, widening(i)) / region);
+    price += reached * (n.leaf() ? double(n.count()) + 1.0 : 1.0);
   }
   return price;
 }
@@ -520,7 +546,7 @@ double padPriceOfTightTree(const Bvh& bvh, std::span<const NodeExtent> extents, 
 
 double padPrice(const Bvh& bvh, std::span<const Sphere> spheres, BoxPadding padding) {
   if (bvh.padding != BoxPadding::scene) throw std::invalid_argument("padPrice needs the tree's tight boxes");
-  return padPriceOfTightTree(bvh, nodeExtents(bvh, spheres), typicalOrigin(spheres), padding);
+  return padPriceOfTightTree(bvh, nodeExtents(bvh, spheres), spheres, padding);
 }
 
 Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves, std::optional<BoxPadding> padding) {
@@ -533,9 +559,8 @@ Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves, std::optional<
   Bvh bvh = Builder(spheres, leaves).build();
   bvh.pad = {bvh.maxRadius, bvh.maxCoordinate, 0.0f};
   const std::vector<NodeExtent> extents = nodeExtents(bvh, spheres);
-  const float origin = typicalOrigin(spheres);
-  const double scenePrice = padPriceOfTightTree(bvh, extents, origin, BoxPadding::scene);
-  const double localPrice = padPriceOfTightTree(bvh, extents, origin, BoxPadding::local);
+  const double scenePrice = padPriceOfTightTree(bvh, extents, spheres, BoxPadding::scene);
+  const double localPrice = padPriceOfTightTree(bvh, extents, spheres, BoxPadding::local);
   // Local padding only where it saves a tenth: where the two are close
   // (uniform sizes) the scene's pad keeps the boxes as they always were.
   const BoxPadding chosen = padding.value_or(localPrice < 0.9 * scenePrice ? BoxPadding::local : BoxPadding::scene);

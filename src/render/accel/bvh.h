@@ -138,7 +138,9 @@ Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves = kBvhLeaves,
 // The estimated cost of a ray's walk through `bvh` under `padding`, in
 // sphere tests (a node visit counts as one): the surface-area heuristic of
 // its boxes as that padding widens them, for a ray from the spheres' median
-// |coordinate|. Brute force costs the sphere count.
+// |coordinate|, each box's chance taken against the region where most
+// sphere centres lie (not the root's box, which one huge sphere can make
+// far larger than where the rays go). Brute force costs the sphere count.
 double padPrice(const Bvh& bvh, std::span<const Sphere> spheres, BoxPadding padding);
 
 }  // namespace rt
