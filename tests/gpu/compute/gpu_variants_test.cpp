@@ -95,7 +95,7 @@ TEST_F(GpuVariants, CommittedScenesAreByteIdenticalToBruteForce) {
 // radius of 1000 beside radii of 0.2, clusters, a crowd on a huge sphere,
 // heavy-tailed radii, the camera inside a sky around nests of spheres.
 TEST_F(GpuVariants, CorpusScenesAreByteIdenticalToBruteForce) {
-  for (const char* name : kCorpusSceneNames) expectEveryVariantMatchesBruteForce(loadNamedScene(name), {37, 21}, name);
+  for (const char* name : kCorpusSceneNames) expectEveryVariantMatchesBruteForce(loadNamedScene(name), {24, 16}, name);
 }
 
 // Exact ties, nested and touching spheres, a camera inside a huge sphere,
