@@ -23,8 +23,8 @@ std::optional<std::string> bruteForceNotice(const RunConfig& config, std::size_t
   const double tests = cameraRays * double(sphereCount);
   std::ostringstream notice;
   notice.precision(2);
-  notice << "brute force (--accel none) tests every ray against all " << sphereCount << " spheres: "
-         << std::scientific << tests << " sphere tests a frame for the camera rays alone, more after bounces; "
+  notice << "brute force (--accel none) tests every ray against all " << sphereCount << " spheres: " << std::scientific
+         << tests << " sphere tests a frame for the camera rays alone, more after bounces; "
          << "--accel bvh tests a few dozen spheres a ray and is far faster on a scene this size "
          << "(docs/render-model.md section 3)";
   return notice.str();

@@ -159,8 +159,8 @@ class AccelStructure {
   [[nodiscard]] const Bvh* bvh() const { return bvh_ ? &*bvh_ : nullptr; }
   [[nodiscard]] std::optional<AccelStructureInfo> info() const {
     if (!bvh_) return std::nullopt;
-    return AccelStructureInfo{Accel::bvh, bvh_->buildMs, bvh_->nodes.size(), bvh_->depth, std::nullopt,
-                              bvh_->padding, bvh_->price};
+    return AccelStructureInfo{Accel::bvh,   bvh_->buildMs, bvh_->nodes.size(), bvh_->depth,
+                              std::nullopt, bvh_->padding, bvh_->price};
   }
 
  private:

@@ -17,7 +17,8 @@ double doubleTraversalPad(const Bvh& bvh, double originMaxCoordinate) {
 }
 
 DoubleReference::DoubleReference(const Scene& scene, ReferenceSearch search) : scene_(&scene) {
-  if (search == ReferenceSearch::bvh && !scene.spheres.empty()) bvh_ = buildBvh(scene.spheres, kBvhLeaves, BoxPadding::scene);
+  if (search == ReferenceSearch::bvh && !scene.spheres.empty())
+    bvh_ = buildBvh(scene.spheres, kBvhLeaves, BoxPadding::scene);
 }
 
 Image DoubleReference::render(const CameraFrame& camera, Extent extent, const RenderOptions& options) const {

@@ -177,8 +177,7 @@ HWY_INLINE Vec3x<D> InverseDirection(D d, const Vec3x<D>& dir) {
 // traversalPad() (render/accel/bvh.h) per lane, in the tree's pad model.
 template <class D>
 HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
-  const VecF<D> originMax =
-      hn::Max(hn::Abs(Get(origin.x)), hn::Max(hn::Abs(Get(origin.y)), hn::Abs(Get(origin.z))));
+  const VecF<D> originMax = hn::Max(hn::Abs(Get(origin.x)), hn::Max(hn::Abs(Get(origin.y)), hn::Abs(Get(origin.z))));
   const VecF<D> scale = hn::Add(originMax, hn::Set(d, bvh.pad.coordinate));
   const VecF<D> scenePad = hn::Add(
       hn::Add(hn::Mul(hn::Set(d, float(RT_BVH_PAD_SCALE)), scale),

@@ -148,6 +148,11 @@ TEST(Bvh, PadsBoxesLocallyWhereOneSphereDwarfsTheRest) {
   }
 }
 
+glm::vec3 unitDirection(std::uint32_t i, std::uint32_t salt) {
+  return glm::normalize(
+      glm::vec3(test::unitNoise(i, salt), test::unitNoise(i, salt + 1), test::unitNoise(i, salt + 2)) - 0.5f);
+}
+
 // Either padding finds brute force's nearest sphere for every ray: camera
 // rays and rays from sphere surfaces in every direction, on the scenes that
 // mix sizes and the rest.
@@ -158,12 +163,10 @@ TEST(Bvh, BothPaddingsFindBruteForcesHitForRaysFromAnywhere) {
       int differ = 0;
       for (std::uint32_t i = 0; i < 4000; ++i) {
         const Sphere& from = scene.spheres[i % scene.spheres.size()];
-        const glm::vec3 d = glm::normalize(glm::vec3(test::unitNoise(i, 11), test::unitNoise(i, 12),
-                                                     test::unitNoise(i, 13)) - 0.5f);
-        const glm::vec3 onSurface = from.position + from.radius * d;
-        const kernel::Ray<float> ray = i % 2 ? kernel::Ray<float>{scene.camera.position, d}
-                                             : kernel::Ray<float>{onSurface, glm::normalize(d + 0.3f * glm::vec3(
-                                                 test::unitNoise(i, 14) - 0.5f))};
+        const glm::vec3 d = unitDirection(i, 11);
+        const kernel::Ray<float> ray = i % 2 == 1
+                                           ? kernel::Ray<float>{scene.camera.position, d}
+                                           : kernel::Ray<float>{from.position + from.radius * d, unitDirection(i, 14)};
         const auto want = kernel::nearestHitOfAll(ray, std::span<const Sphere>(scene.spheres));
         const auto got = kernel::nearestHitInBvh(ray, std::span<const Sphere>(scene.spheres), bvh);
         if (got.sphere != want.sphere) ++differ;
