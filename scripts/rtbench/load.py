@@ -114,7 +114,7 @@ def _check_values(path: Path, columns: dict[str, list]) -> None:
     columns that are either measured in every frame or in none."""
     _check_members(path, names.RENDERER, columns[names.RENDERER], names.RENDERERS)
     _check_members(path, names.ALGORITHM, columns[names.ALGORITHM], names.ALGORITHMS)
-    _check_members(path, names.ACCEL, columns[names.ACCEL], names.ACCELS)
+    _check_members(path, names.ACCEL, columns[names.ACCEL], names.RUN_ACCELS)
     _check_members(path, names.PRECISION, columns[names.PRECISION], ["", *names.PRECISIONS])
     for text in set(columns[names.EARLY_EXIT]):
         bad = names.parse_early_exits(text) - set(names.EARLY_EXITS)

@@ -210,6 +210,11 @@ EARLY_EXITS: list[str] = list(schema.schema()["early_exits"])
 ACCELS: list[str] = [a["name"] for a in schema.schema()["accels"]]
 # The accel of brute force (the thesis' algorithm, and the default).
 BRUTE_FORCE: str = ACCELS[0]
+# --accel auto: the binary settles on none or bvh, and its CSV says which;
+# a profile names the one it measures.
+AUTO_ACCEL = "auto"
+assert AUTO_ACCEL in ACCELS, "schema/rt_schema.json: accels"
+RUN_ACCELS: list[str] = [a for a in ACCELS if a != AUTO_ACCEL]
 TRAVERSALS: list[str] = [t["name"] for t in schema.schema()["traversals"]]
 GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"]]
 GPU_SCHEDULES: list[str] = [s["name"] for s in schema.schema()["gpu_schedules"]]

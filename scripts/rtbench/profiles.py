@@ -224,7 +224,7 @@ TOP_RULES = {
     "preset": Rule("str", "release"),
     "scenes": Rule("str", shape="list"),
     "stages": Rule("stage", shape="list"),
-    "accels": Rule("str", [names.BRUTE_FORCE], shape="list", choices=tuple(names.ACCELS)),
+    "accels": Rule("str", [names.BRUTE_FORCE], shape="list", choices=tuple(names.RUN_ACCELS)),
     "traversals": Rule("str", [names.PACKET], shape="list", choices=tuple(names.TRAVERSALS)),
     # --hybrid-threshold: lanes; 0 would mean the kernel's default, which leaving the key out says.
     "hybrid_thresholds": Rule("int", OPTIONAL, shape="list", minimum=1),

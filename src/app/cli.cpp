@@ -181,7 +181,9 @@ void addModelOptions(CLI::App& app, RawOptions& raw) {
                         ->check(CLI::IsMember(namesOf(schema::kAlgorithmNames)));
   auto* exits = app.add_option("--early-exit", raw.earlyExit,
                                "none|all|comma list of " + joinNames(schema::kEarlyExitNames, ","));
-  app.add_option("--accel", raw.accel, "how a ray finds its nearest sphere: none (brute force, default)|bvh")
+  app.add_option("--accel", raw.accel,
+                 "how a ray finds its nearest sphere: none (brute force, default)|bvh|auto (the BVH where its "
+                 "estimated cost is under half of brute force's; the CSV records which ran)")
       ->check(CLI::IsMember(namesOf(schema::kAccelNames)));
   app.add_option("--stage", raw.stage, "the thesis' stages: original|single-pass|optimized (default)")
       ->check(CLI::IsMember(namesOf(schema::kStageNames)))
@@ -353,9 +355,9 @@ void applyTraversalOptions(const RawOptions& raw, RunConfig& config) {
                                                     simdKernelFlags() + ") with --accel bvh; renderer " + renderer +
                                                     " has no traversal");
     }
-    if (config.options.accel != Accel::bvh) {
+    if (config.options.accel == Accel::none) {
       throw CLI::ValidationError("--traversal", "--traversal " + raw.traversal +
-                                                    " walks a BVH: it needs --accel bvh (accel is " +
+                                                    " walks a BVH: it needs --accel bvh or auto (accel is " +
                                                     std::string(nameOf(config.options.accel)) + ")");
     }
   }
@@ -387,10 +389,11 @@ void applyGpuOptions(const RawOptions& raw, RunConfig& config) {
                                            " does not take it");
   }
   if (!raw.gpuBvh.empty()) {
-    if (config.options.accel != Accel::bvh) {
+    if (config.options.accel == Accel::none) {
       const std::string accel(nameOf(config.options.accel));
       throw CLI::ValidationError("--gpu-bvh", "--gpu-bvh " + raw.gpuBvh +
-                                                  " chooses the BVH the shader walks: it needs --accel bvh (accel is " +
+                                                  " chooses the BVH the shader walks: it needs --accel bvh or auto "
+                                                  "(accel is " +
                                                   accel + ")");
     }
     config.options.gpuBvh = *enumByName<GpuBvh>(schema::kGpuBvhNames, raw.gpuBvh);

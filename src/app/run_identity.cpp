@@ -4,12 +4,26 @@
 
 namespace rt {
 
+namespace {
+
+// The options as they ran: --accel auto as what prepare() settled on, the
+// structure it kept or brute force (the CSV and the metadata never say auto).
+RenderOptions optionsAsRun(const RenderOptions& asked, const RendererInfo& prepared) {
+  RenderOptions options = asked;
+  if (options.accel == Accel::auto_) options.accel = prepared.accelStructure ? Accel::bvh : Accel::none;
+  return options;
+}
+
+}  // namespace
+
 RunIdentity makeRunIdentity(std::string runId, const Scene& scene, const Renderer& prepared, const RunConfig& config,
                             RecordedDevice device) {
+  RendererInfo info = prepared.info();
+  RenderOptions options = optionsAsRun(config.options, info);
   return {.runId = std::move(runId),
           .scene = scene.name,
-          .renderer = prepared.info(),
-          .options = config.options,
+          .renderer = std::move(info),
+          .options = std::move(options),
           .extent = config.extent,
           .present = device.present,
           .presentReason = std::move(device.presentReason),

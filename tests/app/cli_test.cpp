@@ -191,7 +191,7 @@ TEST(Cli, GpuBvhNeedsABvh) {
     const CliExit refused = test::parseFails({"--gpu", "--gpu-bvh", bvh});
     EXPECT_EQ(refused.code, kExitBadInput) << bvh;
     EXPECT_NE(refused.error.find("--gpu-bvh: --gpu-bvh " + std::string(bvh) +
-                                 " chooses the BVH the shader walks: it needs --accel bvh (accel is none)"),
+                                 " chooses the BVH the shader walks: it needs --accel bvh or auto (accel is none)"),
               std::string::npos)
         << refused.error;
     EXPECT_EQ(exitCode({"--gpu", "--accel", "none", "--gpu-bvh", bvh}), kExitBadInput) << bvh;

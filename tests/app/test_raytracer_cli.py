@@ -278,9 +278,9 @@ GPU_AXIS_NAMES = {axis: schema.schema()[axis + "s"] for axis in GPU_AXES}
         ],
         (
             ["--gpu", "--gpu-bvh", "wide"],
-            "--gpu-bvh: --gpu-bvh wide chooses the BVH the shader walks: it needs --accel bvh (accel is none)",
+            "--gpu-bvh: --gpu-bvh wide chooses the BVH the shader walks: it needs --accel bvh or auto (accel is none)",
         ),
-        (["--gpu", "--accel", "none", "--gpu-bvh", "binary"], "it needs --accel bvh (accel is none)"),
+        (["--gpu", "--accel", "none", "--gpu-bvh", "binary"], "it needs --accel bvh or auto (accel is none)"),
         (["--gpu", "--gpu-schedule", "tiles"], "--gpu-schedule: tiles not in {pixel,persistent}"),
         (["--gpu", "--gpu-path", "zigzag"], "--gpu-path: zigzag not in {megakernel,wavefront}"),
         (["--gpu", "--accel", "bvh", "--gpu-bvh", "quad"], "--gpu-bvh: quad not in {binary,wide,grid}"),
@@ -628,3 +628,28 @@ def test_brute_force_over_a_large_scene_says_what_it_costs(raytracer, repo_root,
     assert (said in done.stderr) == noticed, done.stderr
     if noticed:
         assert "--accel bvh" in done.stderr.split(said, 1)[1].splitlines()[0]
+
+
+# --accel auto: the CSV and the metadata record what ran, the tree where it
+# pays (a 1000-sphere scene) and brute force where it does not (20 spheres).
+@pytest.mark.parametrize(
+    ("renderer", "scene", "ran"),
+    [
+        ("--simd", "random1000", "bvh"),
+        ("--simd", "random20", "none"),
+        ("--sequential", "ground500", "bvh"),
+        ("--gpu", "random1000", "bvh"),
+        ("--gpu", "random20", "none"),
+    ],
+)
+def test_accel_auto_records_the_structure_that_ran(raytracer, repo_root, tmp_path, renderer, scene, ran):
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, renderer, "--accel", "auto", repo_root / f"scenes/{scene}.json", *SMALL, "--csv", csv_path)
+    assert done.returncode == 0, done.stderr
+    with csv_path.open(newline="") as f:
+        assert {r["accel"] for r in csv.DictReader(f)} == {ran}
+    meta = json.loads((tmp_path / "run.meta.json").read_text())
+    assert meta["config"]["accel"] == ran
+    assert (meta["accel_structure"] is not None) == (ran == "bvh")
+    if ran == "bvh":
+        assert meta["accel_structure"]["estimated_tests_per_ray"] < 0.5 * meta["scene"]["spheres"]

@@ -178,7 +178,7 @@ def test_generated_scene_and_accels_are_run_and_recorded(repo_root, raytracer, t
         description = "generated scene x accels"
         scenes = ["random3"]
         stages = ["optimized"]
-        accels = {list(names.ACCELS)!r}
+        accels = {list(names.RUN_ACCELS)!r}
         width = 16
         height = 8
         warmup = 0
@@ -195,5 +195,5 @@ def test_generated_scene_and_accels_are_run_and_recorded(repo_root, raytracer, t
     manifest = json.loads((run_dir / "manifest.json").read_text())
     assert {c["scene_path"] for c in manifest["configs"]} == {str(scene)}
     frames = load.load_runs([run_dir])
-    assert sorted(set(frames[names.ACCEL])) == sorted(names.ACCELS)
+    assert sorted(set(frames[names.ACCEL])) == sorted(names.RUN_ACCELS)
     assert set(frames[names.SPHERES]) == {3}

@@ -19,8 +19,8 @@ COUNTS = (10, 100, 1000, 10000)
 # (renderer, accel) -> (c, k): the run's medians are exactly c N^k.
 LAWS = {
     ("simd_tbb", names.BRUTE_FORCE): (0.002, 1.0),
-    ("simd_tbb", names.ACCELS[-1]): (0.4, 0.3),
-    (names.reference_renderer(), names.ACCELS[-1]): (0.01, 0.55),
+    ("simd_tbb", names.BVH): (0.4, 0.3),
+    (names.reference_renderer(), names.BVH): (0.01, 0.55),
 }
 # Run on two sphere counts only: too few to fit.
 TWO_COUNTS = ("tbb_only", names.BRUTE_FORCE)
@@ -113,7 +113,7 @@ def test_load_and_build_times_are_reported_per_scene(tmp_path):
     rows = {(r[1], r[2]): r for r in table.rows}
     assert len(rows) == 2 * len(COUNTS)  # brute force and the BVH at every count
     for n in COUNTS:
-        brute, bvh = rows[(str(n), names.BRUTE_FORCE)], rows[(str(n), names.ACCELS[-1])]
+        brute, bvh = rows[(str(n), names.BRUTE_FORCE)], rows[(str(n), names.BVH)]
         assert brute[4] == tables.fmt_ms(0.01 * n + 0.5) and brute[5] == tables.MISSING
         assert bvh[5] == tables.fmt_ms(0.003 * n) and bvh[6] == tables.fmt_ms(0.02 * n)
     readme = report_writer.readme(inputs, results, {}, run / "report")

@@ -219,21 +219,21 @@ def test_accels_are_an_axis_passed_as_accel(tmp_path):
         description = "x"
         scenes = ["default"]
         stages = ["optimized"]
-        accels = {list(names.ACCELS)!r}
+        accels = {list(names.RUN_ACCELS)!r}
         [renderers.sequential]
         [[overrides]]
-        accels = [{names.ACCELS[-1]!r}]
+        accels = [{names.RUN_ACCELS[-1]!r}]
         frames = 9
     """.replace("'", '"'),
     )
     configs = configurations.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
-    assert [c.accel for c in configs] == names.ACCELS
+    assert [c.accel for c in configs] == names.RUN_ACCELS
     assert len({c.id for c in configs}) == len(configs)
     for c in configs:
         argv = c.argv(Path("rt"), Path("x.csv"), Path("x.meta.json"))
         assert argv[argv.index(configurations.ACCEL_FLAG) + 1] == c.accel
         assert c.describe()["accel"] == c.accel
-        assert c.frames == (9 if c.accel == names.ACCELS[-1] else 5)  # overrides match on accels
+        assert c.frames == (9 if c.accel == names.RUN_ACCELS[-1] else 5)  # overrides match on accels
 
 
 def test_a_renderer_with_its_own_structure_runs_once_with_it(tmp_path):
@@ -244,14 +244,14 @@ def test_a_renderer_with_its_own_structure_runs_once_with_it(tmp_path):
         description = "x"
         scenes = ["default"]
         stages = ["optimized"]
-        accels = {list(names.ACCELS)!r}
+        accels = {list(names.RUN_ACCELS)!r}
         [renderers.{own}]
         [renderers.sequential]
     """.replace("'", '"'),
     )
     configs = configurations.expand(profiles.load_profile(str(path)), [profiles.resolve_scene("default")], cpu_count=2)
     assert [c.accel for c in configs if c.renderer == own] == [accel]
-    assert sorted(c.accel for c in configs if c.renderer == "sequential") == sorted(names.ACCELS)
+    assert sorted(c.accel for c in configs if c.renderer == "sequential") == sorted(names.RUN_ACCELS)
 
 
 def test_an_unknown_accel_is_rejected_naming_the_schemas(tmp_path):
@@ -265,7 +265,7 @@ def test_an_unknown_accel_is_rejected_naming_the_schemas(tmp_path):
         [renderers.sequential]
     """,
     )
-    with pytest.raises(ProfileError, match=f"accels must be a list, each one of {', '.join(names.ACCELS)}"):
+    with pytest.raises(ProfileError, match=f"accels must be a list, each one of {', '.join(names.RUN_ACCELS)}"):
         profiles.load_profile(str(path))
 
 
@@ -297,7 +297,7 @@ def test_scene_size_fits_every_renderer_and_accel_on_three_counts_and_keeps_slow
         (800, 600)
     }
     for renderer in profile.renderers:
-        for accel in [names.OWN_ACCEL[renderer]] if renderer in names.OWN_ACCEL else names.ACCELS:
+        for accel in [names.OWN_ACCEL[renderer]] if renderer in names.OWN_ACCEL else names.RUN_ACCELS:
             counts = {_spheres(c) for c in uniform if c.renderer == renderer and c.accel == accel}
             assert len(counts) >= 3, (renderer, accel)
             if (

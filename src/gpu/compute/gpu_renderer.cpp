@@ -326,12 +326,12 @@ bool usesScheduleBuffers(const RenderOptions& options) {
 // it names.
 struct GPURenderer::SceneObjects {
   SceneObjects(const Device& d, CommandRunner& runner, const Scene& s, Extent e, const RenderOptions& o,
-               PresentMode mode)
+               AccelStructure a, PresentMode mode)
       : scene(s),
         options(o),
         shading(shadingParamsOf(s)),
         extent(e),
-        accel(accelFor(s, o)),
+        accel(std::move(a)),
         wide(wideBvhFor(s, o, accel.bvh())),
         grid(gridFor(s, o, accel.bvh())),
         pipeline(d, o.precision, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr, grid ? &*grid : nullptr),
@@ -504,9 +504,14 @@ void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions
   counters_.reset();
   requireSubgroupOperations(context_->device(), options);
   requireHalfPrecision(context_->device(), options);
-  refuseLoopsPastLavapipeLimit(context_->device(), scene, extent, options);
+  // --accel auto is settled here: what follows sees none or bvh.
+  AccelStructure accel = accelFor(scene, options);
+  RenderOptions resolved = options;
+  resolved.accel = accel.bvh() ? Accel::bvh : Accel::none;
+  refuseLoopsPastLavapipeLimit(context_->device(), scene, extent, resolved);
   scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
-    return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, options, presentMode_);
+    return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, resolved,
+                                          std::move(accel), presentMode_);
   });
 }
 

@@ -147,13 +147,22 @@ double padPrice(const Bvh& bvh, std::span<const Sphere> spheres, BoxPadding padd
 
 namespace rt {
 
+// --accel auto keeps the BVH where a ray's estimated tests through it
+// (Bvh::price) are under this share of the sphere count, brute force's.
+inline constexpr double kAutoBvhShare = 0.5;
+
 // What a kernel holds for the --accel option: nothing for brute force, the
-// BVH for bvh, rebuilt by every prepare().
+// BVH for bvh, rebuilt by every prepare(); for auto, the BVH where its price
+// says it pays.
 class AccelStructure {
  public:
-  void prepare(std::span<const Sphere> spheres, Accel accel, BvhLeafRule leaves = kBvhLeaves) {
+  // Returns what runs: none or bvh (auto resolved).
+  Accel prepare(std::span<const Sphere> spheres, Accel accel, BvhLeafRule leaves = kBvhLeaves) {
     bvh_.reset();
-    if (accel == Accel::bvh) bvh_ = buildBvh(spheres, leaves);
+    if (accel == Accel::none) return Accel::none;
+    bvh_ = buildBvh(spheres, leaves);
+    if (accel == Accel::auto_ && !(bvh_->price < kAutoBvhShare * static_cast<double>(spheres.size()))) bvh_.reset();
+    return bvh_ ? Accel::bvh : Accel::none;
   }
   // Null for brute force.
   [[nodiscard]] const Bvh* bvh() const { return bvh_ ? &*bvh_ : nullptr; }

@@ -73,13 +73,14 @@ simd::LaneKernels SimdKernel::kernelsFor(const Scene& scene, const RenderOptions
   return selectLanes(target_.f16, simdTarget(), "f16", lanesAsked_);
 }
 
-void SimdKernel::prepare(const Scene& scene, const RenderOptions& options, int slots) {
-  if (options.hybridThreshold < 0) throw std::invalid_argument("hybrid threshold must not be negative");
-  kernels_ = kernelsFor(scene, options);
+void SimdKernel::prepare(const Scene& scene, const RenderOptions& asked, int slots) {
+  if (asked.hybridThreshold < 0) throw std::invalid_argument("hybrid threshold must not be negative");
+  kernels_ = kernelsFor(scene, asked);
+  RenderOptions options = asked;
   precision_ = options.precision;
   prepareSpheres(scene);
   if (options.precision == Precision::f16) prepareHalfSpheres();
-  accel_.prepare(scene.spheres, options.accel);
+  options.accel = accel_.prepare(scene.spheres, asked.accel);
   params_.spheres.bvh = accel_.bvh();
   traversal_.reset();
   wide_.reset();

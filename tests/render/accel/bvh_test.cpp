@@ -176,6 +176,28 @@ TEST(Bvh, BothPaddingsFindBruteForcesHitForRaysFromAnywhere) {
   }
 }
 
+// --accel auto keeps the tree where its price is under half of brute
+// force's sphere count, and says which it kept.
+TEST(AccelStructure, AutoKeepsTheTreeWhereItsPriceIsUnderHalfTheSpheres) {
+  for (const char* name : {"default", "random20", "random1000", "ground500", "random10000"}) {
+    const Scene scene = test::loadNamedScene(name);
+    AccelStructure accel;
+    const Accel ran = accel.prepare(scene.spheres, Accel::auto_);
+    const Bvh tree = buildBvh(scene.spheres);
+    const bool pays = tree.price < kAutoBvhShare * static_cast<double>(scene.spheres.size());
+    EXPECT_EQ(ran, pays ? Accel::bvh : Accel::none) << name;
+    EXPECT_EQ(accel.bvh() != nullptr, pays) << name;
+    EXPECT_EQ(accel.info().has_value(), pays) << name;
+  }
+  AccelStructure accel;
+  EXPECT_EQ(accel.prepare(test::loadNamedScene("random20").spheres, Accel::auto_), Accel::none)
+      << "20 spheres: brute force";
+  EXPECT_EQ(accel.prepare(test::loadNamedScene("ground500").spheres, Accel::auto_), Accel::bvh);
+  EXPECT_EQ(accel.prepare(test::loadNamedScene("random20").spheres, Accel::bvh), Accel::bvh) << "bvh is kept as asked";
+  EXPECT_EQ(accel.prepare(test::loadNamedScene("random1000").spheres, Accel::none), Accel::none);
+  EXPECT_EQ(accel.bvh(), nullptr);
+}
+
 std::vector<test::NamedScene> exactnessScenes() {
   std::vector<test::NamedScene> scenes;
   for (const char* name : {"default", "random100"}) scenes.push_back({name, test::loadNamedScene(name)});
