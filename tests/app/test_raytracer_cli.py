@@ -491,6 +491,7 @@ def test_half_precision_is_refused_by_the_renderers_outside_the_experiment(raytr
 F16_TARGET_CPU_FLAGS = {
     "AVX3_SPR": {"avx512_fp16"},
     "NEON": {"asimdhp"},
+    "NEON_WITHOUT_AES": {"asimdhp"},
     "NEON_BF16": {"asimdhp", "bf16"},
     "SVE": {"sve"},
     "SVE2": {"sve2"},

@@ -437,7 +437,7 @@ std::vector<NodeExtent> nodeExtents(const Bvh& bvh, std::span<const Sphere> sphe
 // scene formula's terms in the box's radius R and |coordinate| C, with its
 // tangency term sqrt(R (o + C)) split as sqrt(R C) + sqrt(R o) and
 // sqrt(R o) <= (SPLIT R + o / SPLIT) / 2, so that what is left for the ray
-// is linear in its origin o (kLocalOriginSlope).
+// is linear in its origin o (localOriginSlope()).
 double localBoxPad(const NodeExtent& e) {
   return RT_BVH_PAD_SCALE * e.coordinate + RT_BVH_PAD_TANGENT * std::sqrt(e.radius * e.coordinate) +
          RT_BVH_PAD_TANGENT * RT_BVH_PAD_SPLIT * e.radius / 2 + RT_BVH_PAD_RADIUS * e.radius;
@@ -519,24 +519,32 @@ BvhNode typicalRegion(std::span<const Sphere> spheres) {
   return region;
 }
 
-// padPrice() on the tight boxes, the node extents already taken: the
-// surface-area heuristic with each box's chance of being reached taken
-// against the typical region (and at most 1), a visit costing one and a
-// leaf's spheres one each.
-double padPriceOfTightTree(const Bvh& bvh, std::span<const NodeExtent> extents, std::span<const Sphere> spheres,
+// What padPrice() reads of the spheres, taken once for both paddings.
+struct PriceInputs {
+  float origin;   // typicalOrigin()
+  double region;  // the surface area of typicalRegion(), or of the root's box where that is flat
+};
+
+PriceInputs priceInputs(const Bvh& bvh, std::span<const Sphere> spheres) {
+  double region = surfaceArea(typicalRegion(spheres), 0.0);
+  if (!(region > 0.0)) region = surfaceArea(bvh.nodes[0], 0.0);
+  return {typicalOrigin(spheres), region};
+}
+
+// padPrice() on the tight boxes: the surface-area heuristic with each box's
+// chance of being reached taken against the typical region (and at most 1),
+// a visit costing one and a leaf's spheres one each.
+double padPriceOfTightTree(const Bvh& bvh, std::span<const NodeExtent> extents, const PriceInputs& in,
                            BoxPadding padding) {
-  const float origin = typicalOrigin(spheres);
-  const double sceneShare = traversalPad(bvh.maxRadius, bvh.maxCoordinate, origin);
-  const double rayShare = RT_BVH_PAD_SCALE * origin + RT_BVH_PAD_MIN + double(localOriginSlope()) * origin;
+  const double sceneShare = traversalPad(bvh.maxRadius, bvh.maxCoordinate, in.origin);
+  const double rayShare = RT_BVH_PAD_SCALE * in.origin + RT_BVH_PAD_MIN + double(localOriginSlope()) * in.origin;
   const auto widening = [&](std::size_t i) {
     return padding == BoxPadding::scene ? sceneShare : 2 * localBoxPad(extents[i]) + rayShare;
   };
-  double region = surfaceArea(typicalRegion(spheres), 0.0);
-  if (!(region > 0.0)) region = surfaceArea(bvh.nodes[0], 0.0);
   double price = 0.0;
   for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
     const BvhNode& n = bvh.nodes[i];
-    const double reached = std::min(1.0, surfaceArea(n, widening(i)) / region);
+    const double reached = std::min(1.0, surfaceArea(n, widening(i)) / in.region);
     price += reached * (n.leaf() ? double(n.count()) + 1.0 : 1.0);
   }
   return price;
@@ -546,7 +554,7 @@ double padPriceOfTightTree(const Bvh& bvh, std::span<const NodeExtent> extents, 
 
 double padPrice(const Bvh& bvh, std::span<const Sphere> spheres, BoxPadding padding) {
   if (bvh.padding != BoxPadding::scene) throw std::invalid_argument("padPrice needs the tree's tight boxes");
-  return padPriceOfTightTree(bvh, nodeExtents(bvh, spheres), spheres, padding);
+  return padPriceOfTightTree(bvh, nodeExtents(bvh, spheres), priceInputs(bvh, spheres), padding);
 }
 
 Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves, std::optional<BoxPadding> padding) {
@@ -559,8 +567,9 @@ Bvh buildBvh(std::span<const Sphere> spheres, BvhLeafRule leaves, std::optional<
   Bvh bvh = Builder(spheres, leaves).build();
   bvh.pad = {bvh.maxRadius, bvh.maxCoordinate, 0.0f};
   const std::vector<NodeExtent> extents = nodeExtents(bvh, spheres);
-  const double scenePrice = padPriceOfTightTree(bvh, extents, spheres, BoxPadding::scene);
-  const double localPrice = padPriceOfTightTree(bvh, extents, spheres, BoxPadding::local);
+  const PriceInputs inputs = priceInputs(bvh, spheres);
+  const double scenePrice = padPriceOfTightTree(bvh, extents, inputs, BoxPadding::scene);
+  const double localPrice = padPriceOfTightTree(bvh, extents, inputs, BoxPadding::local);
   // Local padding only where it saves a tenth: where the two are close
   // (uniform sizes) the scene's pad keeps the boxes as they always were.
   const BoxPadding chosen = padding.value_or(localPrice < 0.9 * scenePrice ? BoxPadding::local : BoxPadding::scene);

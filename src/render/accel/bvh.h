@@ -57,7 +57,7 @@ struct Bvh {
   float maxCoordinate = 0.0f;        // any sphere's bounds (sceneTraversalPad's)
   BoxPadding padding = BoxPadding::scene;
   TraversalPadModel pad;  // what the walks' traversalPad() reads
-  double price = 0.0;     // padPrice() of the padding chosen: estimated sphere tests per ray
+  double price = 0.0;     // padPrice() of the padding chosen: a ray's estimated visits and tests
   double buildMs = 0.0;   // wall time of buildBvh()
 };
 
