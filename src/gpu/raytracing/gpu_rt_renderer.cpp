@@ -83,7 +83,9 @@ RendererInfo GpuRtRenderer::info() const {
                                            .buildMs = scene_->structure.buildMs(),
                                            .nodes = std::nullopt,
                                            .depth = std::nullopt,
-                                           .deviceBytes = scene_->structure.deviceBytes()};
+                                           .deviceBytes = scene_->structure.deviceBytes(),
+                                           .padding = std::nullopt,  // the driver's boxes, each padded by its sphere
+                                           .estimatedTestsPerRay = std::nullopt};
   info.gpuRtReorder = scene_->options.gpuRtReorder;
   return info;
 }

@@ -141,7 +141,9 @@ TEST(Bvh, PadsBoxesLocallyWhereOneSphereDwarfsTheRest) {
   EXPECT_GT(scenePad, 5.0f);
   for (std::size_t i = 0; i < local.nodes.size(); ++i) {
     const BvhNode& n = local.nodes[i];
-    if (n.leaf() && n.lo.y > -1.0f) EXPECT_LT(n.hi.y - n.lo.y, 2.5f) << "node " << i;
+    if (n.leaf() && n.lo.y > -1.0f) {
+      EXPECT_LT(n.hi.y - n.lo.y, 2.5f) << "node " << i;
+    }
   }
   for (const char* name : {"default", "random100"}) {
     EXPECT_EQ(buildBvh(test::loadNamedScene(name).spheres).padding, BoxPadding::scene) << name;
