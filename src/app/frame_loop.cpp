@@ -59,6 +59,48 @@ void plotCounters(const FrameCounters& counters) {
   plotOccupancy(kShadeOccupancyPlot, counters->shadeLanesActive, counters->shadeLaneSlots);
 }
 
+// One frame's three phases, each timed and in its Tracy zone.
+FrameRecord runOneFrame(Renderer& renderer, const Scene& scene, const RunConfig& config, const LiveView* view,
+                        long long k) {
+  const auto t0 = Clock::now();
+  const CameraFrame camera = [&] {
+    ZoneScopedN(kUpdateZone);
+    return cameraAtFrame(scene.camera, k);
+  }();
+  const auto t1 = Clock::now();
+  {
+    ZoneScopedN(kRenderZone);
+    renderer.render(camera);
+  }
+  const auto t2 = Clock::now();
+  {
+    ZoneScopedN(kPresentZone);
+    renderer.present();
+  }
+  const auto t3 = Clock::now();
+  return FrameRecord{.frame = k,
+                     .warmup = k < config.warmupFrames,
+                     .updateMs = millisecondsBetween(t0, t1),
+                     .renderMs = millisecondsBetween(t1, t2),
+                     .presentMs = millisecondsBetween(t2, t3),
+                     .gpuMs = renderer.lastGpuMs(),
+                     .acquireMs = view ? view->lastAcquireMs() : std::nullopt};
+}
+
+// Only saved frames come back to the host, after the timed phases: those
+// --save-frame asks for, and frame 0 for --agreement.
+void readBackAskedFrames(Renderer& renderer, const RunConfig& config, long long k, FrameLoopResult& result) {
+  for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
+    if (config.saveFrames[i].frame != k) continue;
+    renderer.readPresented(result.savedFrames[i].image);
+    result.savedFrames[i].filled = true;
+  }
+  if (config.agreement && k == 0) {
+    renderer.readPresented(result.agreementFrame.image);
+    result.agreementFrame.filled = true;
+  }
+}
+
 }  // namespace
 
 FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunConfig& config, LiveView* view) {
@@ -74,46 +116,14 @@ FrameLoopResult runFrameLoop(Renderer& renderer, const Scene& scene, const RunCo
   try {
     for (long long k = 0; untilClosed || k < config.totalFrames(); ++k) {
       if (view && !view->keepRunning()) break;
-      const auto t0 = Clock::now();
-      const CameraFrame camera = [&] {
-        ZoneScopedN(kUpdateZone);
-        return cameraAtFrame(scene.camera, k);
-      }();
-      const auto t1 = Clock::now();
-      {
-        ZoneScopedN(kRenderZone);
-        renderer.render(camera);
-      }
-      const auto t2 = Clock::now();
-      {
-        ZoneScopedN(kPresentZone);
-        renderer.present();
-      }
-      const auto t3 = Clock::now();
-
-      const FrameRecord record{.frame = k,
-                               .warmup = k < config.warmupFrames,
-                               .updateMs = millisecondsBetween(t0, t1),
-                               .renderMs = millisecondsBetween(t1, t2),
-                               .presentMs = millisecondsBetween(t2, t3),
-                               .gpuMs = renderer.lastGpuMs(),
-                               .acquireMs = view ? view->lastAcquireMs() : std::nullopt};
+      const FrameRecord record = runOneFrame(renderer, scene, config, view, k);
       // Read after the timed phases: the copy is no part of Render.
       const FrameCounters counters = counting ? renderer.lastCounters() : std::nullopt;
       recorder.record(record, counters);
       plotFrame(record, config.extent);
       plotCounters(counters);
       if (view) view->frameDone(record);
-      // Only saved frames come back to the host, after the timed phases.
-      for (std::size_t i = 0; i < config.saveFrames.size(); ++i) {
-        if (config.saveFrames[i].frame != k) continue;
-        renderer.readPresented(result.savedFrames[i].image);
-        result.savedFrames[i].filled = true;
-      }
-      if (config.agreement && k == 0) {
-        renderer.readPresented(result.agreementFrame.image);
-        result.agreementFrame.filled = true;
-      }
+      readBackAskedFrames(renderer, config, k, result);
       FrameMark;
     }
   } catch (...) {
