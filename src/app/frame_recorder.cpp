@@ -1,6 +1,7 @@
 #include "app/frame_recorder.h"
 
 #include <charconv>
+#include <optional>
 #include <stdexcept>
 
 #include "app/run_identity.h"
@@ -60,6 +61,12 @@ void appendCounterField(std::string& out, FrameCsvColumn column, const FrameCoun
   }
 }
 
+// An axis the renderer has (its schema name), or an empty field where it has none.
+template <typename Axis>
+void appendNameIfAny(std::string& out, const std::optional<Axis>& axis) {
+  if (axis) appendText(out, nameOf(*axis));
+}
+
 void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id, const FrameRecord& r,
                  const FrameCounters& counters) {
   switch (column) {
@@ -70,30 +77,18 @@ void appendField(std::string& out, FrameCsvColumn column, const RunIdentity& id,
     case FrameCsvColumn::lanes: return appendText(out, std::to_string(id.renderer.lanes));
     case FrameCsvColumn::simd_target: return appendText(out, id.renderer.simdTarget);
     case FrameCsvColumn::grain: return appendText(out, std::to_string(id.renderer.grain.value_or(0)));
-    case FrameCsvColumn::partition:
-      if (id.renderer.partition) appendText(out, nameOf(*id.renderer.partition));
-      return;
+    case FrameCsvColumn::partition: return appendNameIfAny(out, id.renderer.partition);
     case FrameCsvColumn::algorithm: return appendText(out, nameOf(id.options.algorithm));
     case FrameCsvColumn::early_exit: return appendText(out, id.options.earlyExits.toString());
     case FrameCsvColumn::accel: return appendText(out, nameOf(id.options.accel));
-    case FrameCsvColumn::traversal:
-      if (id.renderer.traversal) appendText(out, nameOf(*id.renderer.traversal));
-      return;
+    case FrameCsvColumn::traversal: return appendNameIfAny(out, id.renderer.traversal);
     case FrameCsvColumn::hybrid_threshold:
       if (id.renderer.hybridThreshold) appendText(out, std::to_string(*id.renderer.hybridThreshold));
       return;
-    case FrameCsvColumn::gpu_bvh:
-      if (id.renderer.gpuBvh) appendText(out, nameOf(*id.renderer.gpuBvh));
-      return;
-    case FrameCsvColumn::gpu_schedule:
-      if (id.renderer.gpuSchedule) appendText(out, nameOf(*id.renderer.gpuSchedule));
-      return;
-    case FrameCsvColumn::gpu_path:
-      if (id.renderer.gpuPath) appendText(out, nameOf(*id.renderer.gpuPath));
-      return;
-    case FrameCsvColumn::gpu_rt_reorder:
-      if (id.renderer.gpuRtReorder) appendText(out, nameOf(*id.renderer.gpuRtReorder));
-      return;
+    case FrameCsvColumn::gpu_bvh: return appendNameIfAny(out, id.renderer.gpuBvh);
+    case FrameCsvColumn::gpu_schedule: return appendNameIfAny(out, id.renderer.gpuSchedule);
+    case FrameCsvColumn::gpu_path: return appendNameIfAny(out, id.renderer.gpuPath);
+    case FrameCsvColumn::gpu_rt_reorder: return appendNameIfAny(out, id.renderer.gpuRtReorder);
     case FrameCsvColumn::precision: return appendText(out, nameOf(id.renderer.precision));
     case FrameCsvColumn::width: return appendText(out, std::to_string(id.extent.width));
     case FrameCsvColumn::height: return appendText(out, std::to_string(id.extent.height));
