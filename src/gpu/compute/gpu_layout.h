@@ -66,9 +66,11 @@ static_assert(sizeof(decltype(Bvh::order)::value_type) == sizeof(std::uint32_t))
 // 1,000,000 spheres on the H100 (docs/experiments/gpu-traversal.md). A tree
 // that is one leaf gets a root with that leaf as both children: testing its
 // spheres twice cannot change the nearest hit. Each child's box is widened
-// by `boxPad` on every side: the scene's traversal pad (sceneTraversalPad),
-// so that the shader's box test does not widen it ray by ray
-// (docs/render-model.md section 3).
+// by `boxPad` on every side: the pad every ray of the scene needs beyond
+// what the boxes carry (sceneTraversalPad of the tree's pad model: the whole
+// scene pad, or with local padding only the rays' share), so that the
+// shader's box test does not widen it ray by ray (docs/render-model.md
+// section 3, "The traversal pad").
 std::vector<GpuBinaryNode> toGpuBinaryNodes(const Bvh& bvh, float boxPad);
 
 // The leaves' spheres as (position, radius) in leaf order: `order[k]`'s

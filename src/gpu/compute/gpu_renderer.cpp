@@ -196,7 +196,7 @@ AccelStructure accelFor(const Scene& scene, const RenderOptions& options) {
 }
 
 // The walk's structure on the device (--accel bvh only): the binary tree's
-// nodes (its boxes widened by the scene's traversal pad) or the grid's
+// nodes (its boxes widened by sceneTraversalPad in the tree's pad model) or the grid's
 // cells; the scene index of each slot the binary walk or the grid tests
 // (the wide walk's are WideBvhBuffers'); and the slots' spheres.
 struct BvhBuffers {
