@@ -216,7 +216,11 @@ AUTO_ACCEL = "auto"
 assert AUTO_ACCEL in ACCELS, "schema/rt_schema.json: accels"
 RUN_ACCELS: list[str] = [a for a in ACCELS if a != AUTO_ACCEL]
 TRAVERSALS: list[str] = [t["name"] for t in schema.schema()["traversals"]]
-GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"]]
+# --gpu-bvh auto: the binary probes the walks and its CSV names the one it
+# kept; a profile names the walks it measures.
+AUTO_GPU_BVH = "auto"
+assert AUTO_GPU_BVH in [b["name"] for b in schema.schema()["gpu_bvhs"]], "schema/rt_schema.json: gpu_bvhs"
+GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"] if b["name"] != AUTO_GPU_BVH]
 GPU_SCHEDULES: list[str] = [s["name"] for s in schema.schema()["gpu_schedules"]]
 GPU_PATHS: list[str] = [p["name"] for p in schema.schema()["gpu_paths"]]
 GPU_RT_REORDERS: list[str] = [r["name"] for r in schema.schema()["gpu_rt_reorders"]]

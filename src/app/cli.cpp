@@ -224,8 +224,9 @@ void addTraversalOptions(CLI::App& app, RawOptions& raw) {
 void addGpuOptions(CLI::App& app, RawOptions& raw) {
   const RenderOptions defaults;
   app.add_option("--gpu-bvh", raw.gpuBvh,
-                 "which BVH the GPU renderer's shader walks (" + gpuFlag() + " with --accel bvh): " +
-                     joinNames(schema::kGpuBvhNames, "|") + " (default " + std::string(nameOf(defaults.gpuBvh)) + ")")
+                 "which BVH the GPU renderer's shader walks (" + gpuFlag() + " with --accel bvh or auto): " +
+                     joinNames(schema::kGpuBvhNames, "|") + " (default " + std::string(nameOf(defaults.gpuBvh)) +
+                     "; auto with --accel auto: the fastest in a probe frame of each)")
       ->check(CLI::IsMember(namesOf(schema::kGpuBvhNames)));
   app.add_option("--gpu-schedule", raw.gpuSchedule,
                  "how the GPU renderer's invocations get their rays (" + gpuFlag() +
@@ -397,6 +398,8 @@ void applyGpuOptions(const RawOptions& raw, RunConfig& config) {
                                                   accel + ")");
     }
     config.options.gpuBvh = *enumByName<GpuBvh>(schema::kGpuBvhNames, raw.gpuBvh);
+  } else if (config.renderer == RendererKind::gpu && config.options.accel == Accel::auto_) {
+    config.options.gpuBvh = GpuBvh::auto_;  // --accel auto chooses the walk too (schema: gpu_bvhs)
   }
   if (!raw.gpuSchedule.empty()) {
     config.options.gpuSchedule = *enumByName<GpuSchedule>(schema::kGpuScheduleNames, raw.gpuSchedule);

@@ -283,7 +283,7 @@ GPU_AXIS_NAMES = {axis: schema.schema()[axis + "s"] for axis in GPU_AXES}
         (["--gpu", "--accel", "none", "--gpu-bvh", "binary"], "it needs --accel bvh or auto (accel is none)"),
         (["--gpu", "--gpu-schedule", "tiles"], "--gpu-schedule: tiles not in {pixel,persistent}"),
         (["--gpu", "--gpu-path", "zigzag"], "--gpu-path: zigzag not in {megakernel,wavefront}"),
-        (["--gpu", "--accel", "bvh", "--gpu-bvh", "quad"], "--gpu-bvh: quad not in {binary,wide,grid}"),
+        (["--gpu", "--accel", "bvh", "--gpu-bvh", "quad"], "--gpu-bvh: quad not in {binary,wide,grid,auto}"),
         (["--gpu", "--traversal", "single", "--accel", "bvh"], "renderer gpu has no traversal"),
     ],
 )
@@ -633,19 +633,22 @@ def test_brute_force_over_a_large_scene_says_what_it_costs(raytracer, repo_root,
 
 # --accel auto: the CSV and the metadata record what ran, the tree where it
 # pays (a 1000-sphere scene) and brute force where it does not (20 spheres).
+# The GPU renderer with a walk named (without one it probes them all:
+# tests/gpu/test_gpu_cli.py).
 @pytest.mark.parametrize(
     ("renderer", "scene", "ran"),
     [
         ("--simd", "random1000", "bvh"),
         ("--simd", "random20", "none"),
         ("--sequential", "ground500", "bvh"),
-        ("--gpu", "random1000", "bvh"),
-        ("--gpu", "random20", "none"),
+        ("--gpu --gpu-bvh binary", "random1000", "bvh"),
+        ("--gpu --gpu-bvh binary", "random20", "none"),
     ],
 )
 def test_accel_auto_records_the_structure_that_ran(raytracer, repo_root, tmp_path, renderer, scene, ran):
     csv_path = tmp_path / "run.csv"
-    done = run(raytracer, renderer, "--accel", "auto", repo_root / f"scenes/{scene}.json", *SMALL, "--csv", csv_path)
+    scene_path = repo_root / f"scenes/{scene}.json"
+    done = run(raytracer, *renderer.split(), "--accel", "auto", scene_path, *SMALL, "--csv", csv_path)
     assert done.returncode == 0, done.stderr
     with csv_path.open(newline="") as f:
         assert {r["accel"] for r in csv.DictReader(f)} == {ran}

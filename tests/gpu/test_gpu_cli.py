@@ -157,6 +157,30 @@ def test_gpu_bvh_run_records_its_structure(raytracer, repo_root, tmp_path):
     assert structure["kind"] == "bvh" and structure["nodes"] > 1
 
 
+# --accel auto on the GPU renderer: the walk is chosen by a probe (--gpu-bvh
+# auto, its default there), which runs at half the size of an image of more
+# than 2^19 pixels; the CSV and metadata name what ran, and the image is
+# brute force's.
+def test_gpu_accel_auto_probes_the_walks_and_records_the_one_that_ran(raytracer, repo_root, tmp_path):
+    size = ["--width", "1024", "--height", "600", "--warmup", "0", "--frames", "1"]
+    scene = repo_root / "scenes/random20.json"
+    auto_csv, auto_frame, brute_frame = tmp_path / "auto.csv", tmp_path / "auto.png", tmp_path / "brute.png"
+    done = run(
+        raytracer, "--gpu", scene, *size, "--accel", "auto", "--csv", auto_csv, "--save-frame", f"0:{auto_frame}"
+    )
+    assert done.returncode == 0, done.stderr
+    assert "--gpu-bvh auto: probe frames of 512x300 took (gpu_ms) binary " in done.stderr, done.stderr
+    probe = json.loads((tmp_path / "auto.meta.json").read_text())["gpu_walk_probe"]
+    assert (probe["width"], probe["height"]) == (512, 300)
+    assert list(probe["gpu_ms"]) == sorted(["binary", "wide", "grid", "none"])
+    fastest = min(probe["gpu_ms"], key=probe["gpu_ms"].get)
+    [row] = read_csv(auto_csv)
+    assert (row["accel"], row["gpu_bvh"]) == (("none", "") if fastest == "none" else ("bvh", fastest))
+    done = run(raytracer, "--gpu", scene, *size, "--quiet", "--save-frame", f"0:{brute_frame}")
+    assert done.returncode == 0, done.stderr
+    assert auto_frame.read_bytes() == brute_frame.read_bytes()
+
+
 def test_cpu_renderer_uploads_by_default_when_a_device_opens(raytracer, repo_root, tmp_path):
     csv_path = tmp_path / "run.csv"
     done = run(

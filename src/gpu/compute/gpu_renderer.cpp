@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "core/profiler.h"
@@ -319,6 +323,43 @@ bool usesScheduleBuffers(const RenderOptions& options) {
   return options.gpuSchedule == GpuSchedule::persistent || options.gpuPath == GpuPath::wavefront;
 }
 
+// --gpu-bvh auto (render model section 3, "Choosing the GPU walk"): the
+// walks it measures, each a whole variant; brute force joins them under
+// --accel auto where the binary tree's estimated tests per ray are not
+// under kProbeBruteForceShare of the sphere count (below that, brute force
+// was never the faster on any device measured, and on lavapipe its probe
+// alone would take seconds).
+constexpr std::array kProbedWalks{GpuBvh::binary, GpuBvh::wide, GpuBvh::grid};
+constexpr double kProbeBruteForceShare = 0.1;
+constexpr int kProbeWarmUpFrames = 1;
+constexpr int kProbeMeasuredFrames = 3;
+constexpr std::uint64_t kProbeMaxPixels = std::uint64_t{1} << 19;
+
+RenderOptions walkCandidate(const RenderOptions& options, Accel accel, GpuBvh walk) {
+  RenderOptions candidate = options;
+  candidate.accel = accel;
+  candidate.gpuBvh = walk;
+  return candidate;
+}
+
+bool probesBruteForce(const RenderOptions& options, const Bvh* binaryTree, std::size_t spheres) {
+  return options.accel == Accel::auto_ &&
+         (!binaryTree || binaryTree->price >= kProbeBruteForceShare * static_cast<double>(spheres));
+}
+
+// The probe's frames: the run's size, halved while it has more pixels than
+// kProbeMaxPixels (enough rays to fill a large GPU, few enough for lavapipe).
+Extent probeExtentFor(Extent extent) {
+  while (std::uint64_t{extent.width} * extent.height > kProbeMaxPixels && extent.width > 1 && extent.height > 1) {
+    extent = {.width = extent.width / 2, .height = extent.height / 2};
+  }
+  return extent;
+}
+
+std::string candidateName(const RenderOptions& candidate) {
+  return std::string(candidate.accel == Accel::none ? nameOf(Accel::none) : nameOf(candidate.gpuBvh));
+}
+
 }  // namespace
 
 // What prepare() makes for one scene, size and variant. Declared in
@@ -490,6 +531,7 @@ RendererInfo GPURenderer::info() const {
     info.accelStructure->estimatedTestsPerRay = std::nullopt;
   }
   if (scene_->accel.bvh()) info.gpuBvh = scene_->options.gpuBvh;
+  info.gpuWalkProbe = walkProbe_;
   info.gpuSchedule = scene_->options.gpuSchedule;
   info.gpuPath = scene_->options.gpuPath;
   info.precision = scene_->options.precision;
@@ -502,17 +544,76 @@ void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions
   scene_.reset();  // the old objects go before new ones take their memory
   gpuMs_.reset();
   counters_.reset();
+  walkProbe_.reset();
   requireSubgroupOperations(context_->device(), options);
   requireHalfPrecision(context_->device(), options);
-  // --accel auto is settled here: what follows sees none or bvh.
-  AccelStructure accel = accelFor(scene, options);
+  scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
+    return options.gpuBvh == GpuBvh::auto_ ? prepareFastestWalk(scene, extent, options)
+                                           : prepareVariant(scene, extent, options, accelFor(scene, options));
+  });
+}
+
+// One variant's objects; --accel auto is settled here (by the tree's
+// price), so what follows sees none or bvh.
+std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareVariant(const Scene& scene, Extent extent,
+                                                                       const RenderOptions& options,
+                                                                       AccelStructure accel) {
   RenderOptions resolved = options;
   resolved.accel = accel.bvh() ? Accel::bvh : Accel::none;
   refuseLoopsPastLavapipeLimit(context_->device(), scene, extent, resolved);
-  scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
-    return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, resolved,
-                                          std::move(accel), presentMode_);
-  });
+  return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, resolved,
+                                        std::move(accel), presentMode_);
+}
+
+// --gpu-bvh auto: renders frame 0 with each candidate at the probe's size
+// and keeps the one with the least gpu_ms (walkProbe_ records them all).
+// A candidate this device refuses (brute force past lavapipe's loop limit)
+// is left out.
+std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareFastestWalk(const Scene& scene, Extent extent,
+                                                                           const RenderOptions& options) {
+  const Extent probeExtent = probeExtentFor(extent);
+  const CameraFrame camera = cameraAtFrame(scene.camera, 0);
+  std::vector<RenderOptions> candidates;
+  for (GpuBvh walk : kProbedWalks) candidates.push_back(walkCandidate(options, Accel::bvh, walk));
+  GpuWalkProbe probe{.extent = probeExtent, .gpuMs = {}};
+  std::unique_ptr<SceneObjects> best;
+  double bestMs = 0.0;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    std::unique_ptr<SceneObjects> objects;
+    try {
+      refuseLoopsPastLavapipeLimit(context_->device(), scene, extent, candidates[i]);
+      objects = prepareVariant(scene, probeExtent, candidates[i], accelFor(scene, candidates[i]));
+    } catch (const RendererUnavailable&) {
+      continue;
+    }
+    if (i == 0 && probesBruteForce(options, objects->accel.bvh(), scene.spheres.size())) {
+      candidates.push_back(walkCandidate(options, Accel::none, GpuBvh::binary));
+    }
+    const double ms = probeGpuMs(*objects, camera);
+    probe.gpuMs.emplace_back(candidateName(candidates[i]), ms);
+    if (!best || ms < bestMs) std::tie(best, bestMs) = std::pair(std::move(objects), ms);
+  }
+  if (!best) throw RendererUnavailable("--gpu-bvh auto: this device refused every walk it could choose");
+  walkProbe_ = std::move(probe);
+  if (probeExtent.width == extent.width && probeExtent.height == extent.height) return best;
+  const RenderOptions chosen = best->options;
+  AccelStructure accel = std::move(best->accel);
+  best.reset();
+  return prepareVariant(scene, extent, chosen, std::move(accel));
+}
+
+// The least gpu_ms of the probe's measured frames, after its warm-up (the
+// host's wall time of the frame on a queue without timestamps).
+double GPURenderer::probeGpuMs(SceneObjects& objects, const CameraFrame& camera) {
+  for (int frame = 0; frame < kProbeWarmUpFrames; ++frame) renderWith(objects, camera);
+  double least = std::numeric_limits<double>::infinity();
+  for (int frame = 0; frame < kProbeMeasuredFrames; ++frame) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::optional<double> gpuMs = renderWith(objects, camera);
+    const std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - start;
+    least = std::min(least, gpuMs.value_or(wall.count()));
+  }
+  return least;
 }
 
 GPURenderer::SceneObjects& GPURenderer::prepared() {
@@ -520,20 +621,25 @@ GPURenderer::SceneObjects& GPURenderer::prepared() {
   return *scene_;
 }
 
-void GPURenderer::render(const CameraFrame& camera) {
-  SceneObjects& s = prepared();
+// One frame of `s`'s variant: its dispatches between GPU timestamps.
+std::optional<double> GPURenderer::renderWith(SceneObjects& s, const CameraFrame& camera) {
   const FrameConstants constants =
       makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
   using CommandBuffer = vk::raii::CommandBuffer;
+  return frames_->renderFrame(
+      "raytrace dispatch",
+      [&](const CommandBuffer& cb) {
+        s.recordFrameReset(cb);
+        s.output.recordBeforeShaderWrites(cb);
+      },
+      [&](const CommandBuffer& cb) { s.recordDispatches(cb, s.bindings.set(), constants); },
+      [&](const CommandBuffer& cb) { s.recordCounterReadback(cb); });
+}
+
+void GPURenderer::render(const CameraFrame& camera) {
+  SceneObjects& s = prepared();
   translateVulkanErrors("render", [&] {
-    gpuMs_ = frames_->renderFrame(
-        "raytrace dispatch",
-        [&](const CommandBuffer& cb) {
-          s.recordFrameReset(cb);
-          s.output.recordBeforeShaderWrites(cb);
-        },
-        [&](const CommandBuffer& cb) { s.recordDispatches(cb, s.bindings.set(), constants); },
-        [&](const CommandBuffer& cb) { s.recordCounterReadback(cb); });
+    gpuMs_ = renderWith(s, camera);
     if (s.counterBuffers) counters_ = s.counterBuffers->read();
   });
 }

@@ -278,5 +278,59 @@ TEST_F(GpuVariants, TheGridReportsItsCellsAsItsNodes) {
   EXPECT_EQ(gpu.info().accelStructure->deviceBytes, grid.cellCount() * 8 + grid.slots.size() * 20);
 }
 
+// --gpu-bvh auto =============================================================================
+
+std::vector<std::string> probedCandidates(const RendererInfo& info) {
+  std::vector<std::string> names;
+  for (const auto& [candidate, ms] : info.gpuWalkProbe->gpuMs) names.push_back(candidate);
+  return names;
+}
+
+std::string fastestOfProbe(const RendererInfo& info) {
+  return std::ranges::min(info.gpuWalkProbe->gpuMs, {}, [](const auto& entry) { return entry.second; }).first;
+}
+
+// The probe measures each walk, the fastest runs, and its image is brute
+// force's (render model section 3, "Choosing the GPU walk"); with --accel
+// bvh brute force is no candidate.
+TEST_F(GpuVariants, TheAutoWalkRunsTheFastestOfItsProbeAndDrawsBruteForcesBytes) {
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  for (const char* name : {"ground500", "random1000"}) {
+    const Scene scene = loadNamedScene(name);
+    const RenderOptions bruteForce = optionsForStage(Stage::optimized);
+    RenderOptions options = bruteForce;
+    options.accel = Accel::bvh;
+    options.gpuBvh = GpuBvh::auto_;
+    const Image image = renderFrame(gpu, scene, {24, 16}, options, kFrame);
+    const RendererInfo info = gpu.info();
+    ASSERT_TRUE(info.gpuWalkProbe.has_value()) << name;
+    EXPECT_EQ(probedCandidates(info), (std::vector<std::string>{"binary", "wide", "grid"})) << name;
+    EXPECT_EQ(info.gpuWalkProbe->extent.width, 24u);
+    ASSERT_TRUE(info.gpuBvh.has_value()) << name;
+    EXPECT_EQ(std::string(rt::nameOf(*info.gpuBvh)), fastestOfProbe(info)) << name;
+    EXPECT_TRUE(std::ranges::equal(renderFrame(gpu, scene, {24, 16}, bruteForce, kFrame).pixels(), image.pixels()))
+        << name << " with walk " << rt::nameOf(*info.gpuBvh);
+    EXPECT_FALSE(gpu.info().gpuWalkProbe.has_value()) << "a later prepare() without auto probes nothing";
+  }
+}
+
+// Under --accel auto brute force joins the probe where the tree's price is
+// not far under the sphere count (a handful of spheres), not where it is.
+TEST_F(GpuVariants, AccelAutoProbesBruteForceOnlyWhereTheTreeMayNotPay) {
+  gpu::GPURenderer gpu(context(), PresentMode::upload);
+  RenderOptions options = optionsForStage(Stage::optimized);
+  options.accel = Accel::auto_;
+  options.gpuBvh = GpuBvh::auto_;
+  renderFrame(gpu, loadNamedScene("random20"), {24, 16}, options, kFrame);
+  ASSERT_TRUE(gpu.info().gpuWalkProbe.has_value());
+  EXPECT_EQ(probedCandidates(gpu.info()), (std::vector<std::string>{"binary", "wide", "grid", "none"}));
+  const bool bruteForceRuns = fastestOfProbe(gpu.info()) == "none";
+  EXPECT_EQ(gpu.info().accelStructure.has_value(), !bruteForceRuns);
+  EXPECT_EQ(gpu.info().gpuBvh.has_value(), !bruteForceRuns);
+  renderFrame(gpu, loadNamedScene("random1000"), {24, 16}, options, kFrame);
+  ASSERT_TRUE(gpu.info().gpuWalkProbe.has_value());
+  EXPECT_EQ(probedCandidates(gpu.info()), (std::vector<std::string>{"binary", "wide", "grid"}));
+}
+
 }  // namespace
 }  // namespace rt::test
