@@ -37,6 +37,9 @@
 // the slots' spheres and indices take the leaf spheres' and the BVH
 // order's bindings).
 #define RT_BINDING_GRID_CELLS 14
+// Lavapipe only: the word the shader raises where lavapipe's loop limit cut
+// a loop short (loop_guard.glsl).
+#define RT_BINDING_LOOP_GUARD 15
 
 // Specialization constants: fixed per pipeline, so the compiler removes the
 // branches of the variants that are not used (as the C++ templates do).
@@ -71,6 +74,8 @@
 #define RT_SPEC_GRID_CELLS_Y 18
 #define RT_SPEC_GRID_CELLS_Z 19
 #define RT_SPEC_BVH_PAD_ORIGIN_SLOPE 20
+// Lavapipe's loop limit (loop_guard.glsl).
+#define RT_SPEC_LOOP_GUARD 21
 
 #define RT_STAGE_MEGAKERNEL 0
 #define RT_STAGE_WAVEFRONT_DEPTH 1
@@ -117,6 +122,10 @@
 #define RT_COUNTER_SHADE_LANES_ACTIVE 69
 #define RT_COUNTER_SLOTS 70
 #define RT_COUNTER_COPIES 64
+
+// Lavapipe's compiler (gallivm) ends a subgroup's loops once they have run
+// this many iterations in all (loop_guard.glsl).
+#define RT_LAVAPIPE_LOOP_ITERATIONS 65535
 
 // Size of the push-constant block (bytes): the Vulkan-guaranteed minimum
 // of maxPushConstantsSize, so the pipeline runs on every device.

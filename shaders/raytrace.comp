@@ -62,6 +62,8 @@ layout(constant_id = RT_SPEC_PERSISTENT) const bool PERSISTENT = false;
 layout(constant_id = RT_SPEC_STAGE) const int STAGE = RT_STAGE_MEGAKERNEL;
 // --counters: tally rays, visits, tests and lane slots (nearest_hit.glsl).
 layout(constant_id = RT_SPEC_COUNTERS) const bool COUNTERS = false;
+// Lavapipe: find out whether its loop limit cut a loop short (loop_guard.glsl).
+layout(constant_id = RT_SPEC_LOOP_GUARD) const bool LOOP_GUARD = false;
 
 // Inputs =====================================================================
 #include "frame_inputs.glsl"
@@ -105,6 +107,10 @@ layout(std430, set = 0, binding = RT_BINDING_COUNTERS) buffer Counters {
   uint counterWords[];  // RT_COUNTER_COPIES x RT_COUNTER_SLOTS x (low, high)
 };
 
+layout(std430, set = 0, binding = RT_BINDING_LOOP_GUARD) buffer LoopGuard {
+  uint loopGuardWords[];  // [0]: raised to 1 where the limit was reached; [1]: always 0
+};
+
 // A queued ray of a wavefront: origin and direction, and in the origin's w
 // the ray's number (tile order), which names its path state.
 struct QueuedRay {
@@ -141,6 +147,7 @@ layout(std430, set = 0, binding = RT_BINDING_CONTROL) buffer Control {
 };
 
 #include "render_model.glsl"
+#include "loop_guard.glsl"
 #include "nearest_hit.glsl"
 
 #include "path_tracing.glsl"
@@ -343,4 +350,5 @@ void main() {
     if (slot < workItems()) traceQueuedRay(slot);
   }
   flushCounters();
+  reportLoopLimit();
 }

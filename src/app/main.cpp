@@ -169,7 +169,10 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
   if (setup.window) window = rt::WindowOutcome{setup.window->swapchainInfo(), setup.window->closed()};
 #endif
 
-  // Frames that completed are written even when a later one failed.
+  // Frames that completed are written even when a later one failed; a run
+  // whose first frame failed (lavapipe's loop limit, a lost device) writes
+  // nothing, as one refused before its frames.
+  if (result.failure && result.records.empty()) std::rethrow_exception(result.failure);
   const auto agreement = agreementWithReference(config, scene, result.agreementFrame);
   writeOutputs(config, identity, scene, result, times, window, agreement);
   if (result.failure) std::rethrow_exception(result.failure);

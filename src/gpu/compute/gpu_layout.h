@@ -134,6 +134,7 @@ struct SpecializationConstants {
   float gridCellSize = 1.0f;
   std::int32_t gridCells[3] = {1, 1, 1};
   float bvhPadOriginSlope = 0.0f;  // Bvh::pad.originSlope
+  std::uint32_t loopGuard = 0;     // VkBool32: lavapipe (shaders/loop_guard.glsl)
 };
 
 // The binary walk pushes at most one child per level of the tree on its way

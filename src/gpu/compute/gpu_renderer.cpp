@@ -32,8 +32,14 @@ namespace {
 using PipelineStage = vk::PipelineStageFlagBits;
 using Access = vk::AccessFlagBits;
 
+// Lavapipe's loop limit (render model section 8): every frame there finds
+// out whether the limit cut a loop short (shaders/loop_guard.glsl); brute
+// force is also refused beforehand where it would pass the limit
+// (refuseLoopsPastLavapipeLimit below).
+bool guardsLoops(const Device& device) { return device.info().driverName == "llvmpipe"; }
+
 SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh,
-                                          const WideBvh* wide, const SphereGrid* grid) {
+                                          const WideBvh* wide, const SphereGrid* grid, bool loopGuard) {
   SpecializationConstants constants{.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
                                     .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
                                     .maxDepth = scene.render.maxDepth};
@@ -61,6 +67,7 @@ SpecializationConstants specializationFor(const Scene& scene, const RenderOption
   }
   constants.persistent = options.gpuSchedule == GpuSchedule::persistent ? VK_TRUE : VK_FALSE;
   constants.counters = options.counters ? VK_TRUE : VK_FALSE;
+  constants.loopGuard = loopGuard ? VK_TRUE : VK_FALSE;
   return constants;
 }
 
@@ -249,6 +256,33 @@ std::optional<SphereGrid> gridFor(const Scene& scene, const RenderOptions& optio
                          sceneTraversalPad(bvh->maxRadius, bvh->maxCoordinate, cameraMaxCoordinate(scene.camera)));
 }
 
+// Lavapipe's guard words (shaders/loop_guard.glsl): host-visible, zeroed
+// once; a raised word fails the frame, so it is never reset.
+struct LoopGuardBuffer {
+  static constexpr std::size_t kWords = 2;  // the raised word, and the guard loop's extra bound (0)
+
+  explicit LoopGuardBuffer(const Device& device)
+      : words(device, kWords * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, MemoryUse::readback) {
+    std::memset(words.mapped().data(), 0, kWords * sizeof(std::uint32_t));
+    words.flushHostWrites();
+  }
+  Buffer words;
+
+  // Throws RendererUnavailable once the shader raised the word.
+  void refuseACutShortFrame(const RenderOptions& options) const {
+    words.invalidateForHost();
+    std::uint32_t raised = 0;
+    std::memcpy(&raised, words.mapped().data(), sizeof raised);
+    if (raised == 0) return;
+    const std::string variant =
+        options.accel == Accel::bvh ? "walk (--gpu-bvh " + std::string(nameOf(options.gpuBvh)) + ")" : "brute force";
+    throw RendererUnavailable("lavapipe ends a shader invocation's loops after " +
+                              std::to_string(RT_LAVAPIPE_LOOP_ITERATIONS) + " iterations, and this frame's " + variant +
+                              " reached that limit: its image was cut short; try another --gpu-bvh, a "
+                              "CPU renderer, or a GPU device");
+  }
+};
+
 constexpr vk::DeviceSize kCounterBytes =
     vk::DeviceSize{RT_COUNTER_COPIES} * RT_COUNTER_SLOTS * 2 * sizeof(std::uint32_t);
 
@@ -350,7 +384,10 @@ bool probesBruteForce(const RenderOptions& options, const Bvh* binaryTree, std::
 // The probe's frames: the run's size, halved while it has more pixels than
 // kProbeMaxPixels (enough rays to fill a large GPU, few enough for lavapipe).
 Extent probeExtentFor(Extent extent) {
-  while (std::uint64_t{extent.width} * extent.height > kProbeMaxPixels && extent.width > 1 && extent.height > 1) {
+  const auto pixels = [](Extent e) {
+    return static_cast<std::uint64_t>(e.width) * static_cast<std::uint64_t>(e.height);
+  };
+  while (pixels(extent) > kProbeMaxPixels && extent.width > 1 && extent.height > 1) {
     extent = {.width = extent.width / 2, .height = extent.height / 2};
   }
   return extent;
@@ -375,7 +412,8 @@ struct GPURenderer::SceneObjects {
         accel(std::move(a)),
         wide(wideBvhFor(s, o, accel.bvh())),
         grid(gridFor(s, o, accel.bvh())),
-        pipeline(d, o.precision, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr, grid ? &*grid : nullptr),
+        pipeline(d, o.precision,
+                 specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr, grid ? &*grid : nullptr, guardsLoops(d)),
                  stagesOf(o.gpuPath)),
         spheres(uploadStorage(d, runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
         bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s, wide ? &*wide : nullptr,
@@ -384,6 +422,7 @@ struct GPURenderer::SceneObjects {
         wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d, runner, *wide) : std::nullopt),
         counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d) : std::nullopt),
         scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d, s, e, o) : std::nullopt),
+        loopGuard(guardsLoops(d) ? std::make_optional<LoopGuardBuffer>(d) : std::nullopt),
         initialControlWords(initialControl(s.render.maxDepth, e)),
         output(d, runner, e, mode, PipelineStage::eComputeShader),
         bindings(d, pipeline, sceneBuffers(), output.image()) {}
@@ -401,6 +440,7 @@ struct GPURenderer::SceneObjects {
   std::optional<WideBvhBuffers> wideBuffers;
   std::optional<CounterBuffers> counterBuffers;    // --counters only
   std::optional<ScheduleBuffers> scheduleBuffers;  // persistent threads or wavefronts only
+  std::optional<LoopGuardBuffer> loopGuard;        // lavapipe only
   std::vector<std::uint32_t> initialControlWords;  // what the control buffer holds as a frame starts
   ShaderOutput output;
   RaytraceBindings bindings;
@@ -421,6 +461,7 @@ struct GPURenderer::SceneObjects {
       buffers.wideIndex = wideBuffers->index.handle();
     }
     if (counterBuffers) buffers.counters = counterBuffers->counters.handle();
+    if (loopGuard) buffers.loopGuard = loopGuard->words.handle();
     if (scheduleBuffers) {
       const ScheduleBuffers& b = *scheduleBuffers;
       buffers.control = b.control.handle();
@@ -568,7 +609,7 @@ std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareVariant(const Sce
 // --gpu-bvh auto: renders frame 0 with each candidate at the probe's size
 // and keeps the one with the least gpu_ms (walkProbe_ records them all).
 // A candidate this device refuses (brute force past lavapipe's loop limit)
-// is left out.
+// or whose probe frame passes lavapipe's loop limit is left out.
 std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareFastestWalk(const Scene& scene, Extent extent,
                                                                            const RenderOptions& options) {
   const Extent probeExtent = probeExtentFor(extent);
@@ -589,7 +630,12 @@ std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareFastestWalk(const
     if (i == 0 && probesBruteForce(options, objects->accel.bvh(), scene.spheres.size())) {
       candidates.push_back(walkCandidate(options, Accel::none, GpuBvh::binary));
     }
-    const double ms = probeGpuMs(*objects, camera);
+    double ms = 0.0;
+    try {
+      ms = probeGpuMs(*objects, camera);
+    } catch (const RendererUnavailable&) {
+      continue;  // its walk passes lavapipe's loop limit
+    }
     probe.gpuMs.emplace_back(candidateName(candidates[i]), ms);
     if (!best || ms < bestMs) std::tie(best, bestMs) = std::pair(std::move(objects), ms);
   }
@@ -621,12 +667,13 @@ GPURenderer::SceneObjects& GPURenderer::prepared() {
   return *scene_;
 }
 
-// One frame of `s`'s variant: its dispatches between GPU timestamps.
+// One frame of `s`'s variant: its dispatches between GPU timestamps. On
+// lavapipe a frame that its loop limit cut short throws.
 std::optional<double> GPURenderer::renderWith(SceneObjects& s, const CameraFrame& camera) {
   const FrameConstants constants =
       makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
   using CommandBuffer = vk::raii::CommandBuffer;
-  return frames_->renderFrame(
+  const std::optional<double> gpuMs = frames_->renderFrame(
       "raytrace dispatch",
       [&](const CommandBuffer& cb) {
         s.recordFrameReset(cb);
@@ -634,6 +681,8 @@ std::optional<double> GPURenderer::renderWith(SceneObjects& s, const CameraFrame
       },
       [&](const CommandBuffer& cb) { s.recordDispatches(cb, s.bindings.set(), constants); },
       [&](const CommandBuffer& cb) { s.recordCounterReadback(cb); });
+  if (s.loopGuard) s.loopGuard->refuseACutShortFrame(s.options);
+  return gpuMs;
 }
 
 void GPURenderer::render(const CameraFrame& camera) {

@@ -11,10 +11,10 @@ namespace rt::gpu {
 namespace {
 
 // Every binding but the output image is a storage buffer, in SceneBuffers' order.
-constexpr std::array<std::uint32_t, 13> kStorageBufferSlots{
-    RT_BINDING_SPHERES,  RT_BINDING_BVH_NODES,    RT_BINDING_BVH_ORDER, RT_BINDING_WIDE_NODES, RT_BINDING_WIDE_INDEX,
-    RT_BINDING_COUNTERS, RT_BINDING_QUEUE_EVEN,   RT_BINDING_QUEUE_ODD, RT_BINDING_PATH_STATE, RT_BINDING_SEGMENTS,
-    RT_BINDING_CONTROL,  RT_BINDING_LEAF_SPHERES, RT_BINDING_GRID_CELLS};
+constexpr std::array<std::uint32_t, 14> kStorageBufferSlots{
+    RT_BINDING_SPHERES,  RT_BINDING_BVH_NODES,    RT_BINDING_BVH_ORDER,  RT_BINDING_WIDE_NODES, RT_BINDING_WIDE_INDEX,
+    RT_BINDING_COUNTERS, RT_BINDING_QUEUE_EVEN,   RT_BINDING_QUEUE_ODD,  RT_BINDING_PATH_STATE, RT_BINDING_SEGMENTS,
+    RT_BINDING_CONTROL,  RT_BINDING_LEAF_SPHERES, RT_BINDING_GRID_CELLS, RT_BINDING_LOOP_GUARD};
 constexpr std::uint32_t kStorageBufferBindings = kStorageBufferSlots.size();
 static_assert(sizeof(SceneBuffers) == kStorageBufferBindings * sizeof(vk::Buffer));
 
@@ -37,7 +37,7 @@ constexpr auto kBindings = bindings();
 constexpr vk::PushConstantRange kPushConstants{
     .stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = sizeof(FrameConstants)};
 
-constexpr std::array<vk::SpecializationMapEntry, 21> kSpecializationEntries{{
+constexpr std::array<vk::SpecializationMapEntry, 22> kSpecializationEntries{{
     {RT_SPEC_TWO_PASS, offsetof(SpecializationConstants, twoPass), sizeof(std::uint32_t)},
     {RT_SPEC_BOUNCE_EXIT, offsetof(SpecializationConstants, bounceExit), sizeof(std::uint32_t)},
     {RT_SPEC_MAX_DEPTH, offsetof(SpecializationConstants, maxDepth), sizeof(std::int32_t)},
@@ -60,6 +60,7 @@ constexpr std::array<vk::SpecializationMapEntry, 21> kSpecializationEntries{{
     {RT_SPEC_GRID_CELLS_Y, offsetof(SpecializationConstants, gridCells) + sizeof(std::int32_t), sizeof(std::int32_t)},
     {RT_SPEC_GRID_CELLS_Z, offsetof(SpecializationConstants, gridCells) + 2 * sizeof(std::int32_t),
      sizeof(std::int32_t)},
+    {RT_SPEC_LOOP_GUARD, offsetof(SpecializationConstants, loopGuard), sizeof(std::uint32_t)},
 }};
 
 vk::raii::DescriptorSetLayout createSetLayout(const Device& device) {
@@ -152,9 +153,9 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
     return vk::DescriptorBufferInfo{.buffer = buffer, .offset = 0, .range = VK_WHOLE_SIZE};
   };
   const std::array<vk::Buffer, kStorageBufferBindings> handles{
-      buffers.spheres,  buffers.bvhNodes,    buffers.bvhOrder, buffers.wideNodes,  buffers.wideIndex,
-      buffers.counters, buffers.queueEven,   buffers.queueOdd, buffers.pathStates, buffers.segments,
-      buffers.control,  buffers.leafSpheres, buffers.gridCells};
+      buffers.spheres,  buffers.bvhNodes,    buffers.bvhOrder,  buffers.wideNodes,  buffers.wideIndex,
+      buffers.counters, buffers.queueEven,   buffers.queueOdd,  buffers.pathStates, buffers.segments,
+      buffers.control,  buffers.leafSpheres, buffers.gridCells, buffers.loopGuard};
   std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{};
   for (std::size_t i = 0; i < kStorageBufferBindings; ++i) bufferInfos[i] = whole(handles[i]);
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};

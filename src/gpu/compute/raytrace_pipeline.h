@@ -69,11 +69,12 @@ struct SceneBuffers {
   vk::Buffer control;
   vk::Buffer leafSpheres;
   vk::Buffer gridCells;
+  vk::Buffer loopGuard;
 
   // Every slot naming `spheres`, for the others to be set.
   static SceneBuffers allSpheres(vk::Buffer spheres) {
     return {spheres, spheres, spheres, spheres, spheres, spheres, spheres,
-            spheres, spheres, spheres, spheres, spheres, spheres};
+            spheres, spheres, spheres, spheres, spheres, spheres, spheres};
   }
 };
 

@@ -278,6 +278,33 @@ TEST_F(GpuVariants, TheGridReportsItsCellsAsItsNodes) {
   EXPECT_EQ(gpu.info().accelStructure->deviceBytes, grid.cellCount() * 8 + grid.slots.size() * 20);
 }
 
+// A pile of coincident spheres leaves a walk no box to cull: every ray tests
+// all 50,000, and a subgroup's loops pass lavapipe's limit of 65535
+// iterations. A tree walk's frame fails, naming the limit, rather than
+// drawing a cut-short image (render model section 8); the same walks on
+// the scenes above never trip it. (The grid would list the pile in
+// thousands of cells, past the storage buffers' range.)
+TEST_F(GpuVariants, AWalkPastLavapipesLoopLimitFailsTheFrame) {
+  if (context()->device().info().driverName != "llvmpipe") GTEST_SKIP() << "lavapipe's limit";
+  gpu::GPURenderer gpu(context(), PresentMode::none);
+  Scene scene = loadNamedScene("default");
+  scene.spheres.assign(50'000, Sphere{.position = {0.0f, 0.0f, 0.0f}, .radius = 1.0f, .color = {0.8f, 0.3f, 0.3f}});
+  RenderOptions options = optionsForStage(Stage::optimized);
+  options.accel = Accel::bvh;
+  for (const GpuBvh walk : {GpuBvh::binary, GpuBvh::wide}) {
+    options.gpuBvh = walk;
+    gpu.prepare(scene, {8, 8}, options);
+    try {
+      gpu.render(cameraAtFrame(scene.camera, 0));
+      ADD_FAILURE() << "a walk over 50,000 coincident spheres rendered on lavapipe: " << rt::nameOf(walk);
+    } catch (const RendererUnavailable& e) {
+      const std::string said = e.what();
+      EXPECT_NE(said.find("after 65535 iterations"), std::string::npos) << said;
+      EXPECT_NE(said.find("--gpu-bvh " + std::string(rt::nameOf(walk))), std::string::npos) << said;
+    }
+  }
+}
+
 // --gpu-bvh auto =============================================================================
 
 std::vector<std::string> probedCandidates(const RendererInfo& info) {
@@ -305,7 +332,7 @@ TEST_F(GpuVariants, TheAutoWalkRunsTheFastestOfItsProbeAndDrawsBruteForcesBytes)
     const RendererInfo info = gpu.info();
     ASSERT_TRUE(info.gpuWalkProbe.has_value()) << name;
     EXPECT_EQ(probedCandidates(info), (std::vector<std::string>{"binary", "wide", "grid"})) << name;
-    EXPECT_EQ(info.gpuWalkProbe->extent.width, 24u);
+    EXPECT_EQ(info.gpuWalkProbe->extent.width, 24);
     ASSERT_TRUE(info.gpuBvh.has_value()) << name;
     EXPECT_EQ(std::string(rt::nameOf(*info.gpuBvh)), fastestOfProbe(info)) << name;
     EXPECT_TRUE(std::ranges::equal(renderFrame(gpu, scene, {24, 16}, bruteForce, kFrame).pixels(), image.pixels()))
