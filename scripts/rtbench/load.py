@@ -466,8 +466,8 @@ def _retired_note(left_out: list[pd.DataFrame]) -> str | None:
     ]
     return (
         f"{len(left_out)} run(s) of {len(configs)} configuration(s) left out: they ran retired GPU variants "
-        f"({', '.join(values)}), which never beat the GPU renderer's default and whose code is gone; their "
-        f"measurements are in {', '.join(names.RETIRED_GPU_RECORDS)}"
+        f"({', '.join(values)}), whose code is gone since they never gave the fastest frame; their measurements "
+        f"and the commit with their code are in {', '.join(names.RETIRED_GPU_RECORDS)}"
     )
 
 
