@@ -45,7 +45,9 @@ struct RendererInfo {
   std::optional<Traversal> traversal{};
   std::optional<int> hybridThreshold{};
   // The GPU renderer's axes as prepare() set them up: the BVH its shader
-  // walks (accel bvh only), its schedule and its path; empty elsewhere.
+  // walks (accel bvh only), its schedule and its path (each of one value
+  // since the others were retired: schema retired_gpu_variants, recorded
+  // in the CSV and the metadata all the same); empty elsewhere.
   std::optional<GpuBvh> gpuBvh{};
   std::optional<GpuSchedule> gpuSchedule{};
   std::optional<GpuPath> gpuPath{};
