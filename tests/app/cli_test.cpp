@@ -171,7 +171,7 @@ TEST(Cli, RetiredGpuVariantsAreRefusedWithTheirRecord) {
   const std::string help = std::get<CliExit>(parse({"--help"})).output;
   for (const auto& variant : schema::kRetiredGpuVariants) {
     const std::string flag(variant.flag);
-    for (const std::string value : {std::string(variant.name), std::string(variant.kept)}) {
+    for (const std::string& value : {std::string(variant.name), std::string(variant.kept)}) {
       for (const char* renderer : {"--gpu", "--simd"}) {
         const CliExit refused = test::parseFails({renderer, flag.c_str(), value.c_str()});
         EXPECT_EQ(refused.code, kExitBadInput) << flag << " " << value;

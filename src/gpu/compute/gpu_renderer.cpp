@@ -316,8 +316,9 @@ struct GPURenderer::SceneObjects {
         accel(std::move(a)),
         wide(wideBvhFor(s, o, accel.bvh())),
         grid(gridFor(s, o, accel.bvh())),
-        pipeline(d, o.precision,
-                 specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr, grid ? &*grid : nullptr, guardsLoops(d))),
+        pipeline(
+            d, o.precision,
+            specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr, grid ? &*grid : nullptr, guardsLoops(d))),
         spheres(uploadStorage(d, runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
         bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s, wide ? &*wide : nullptr,
                                                                 grid ? &*grid : nullptr)

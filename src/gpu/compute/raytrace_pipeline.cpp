@@ -12,9 +12,8 @@ namespace {
 
 // Every binding but the output image is a storage buffer, in SceneBuffers' order.
 constexpr std::array<std::uint32_t, 9> kStorageBufferSlots{
-    RT_BINDING_SPHERES,    RT_BINDING_BVH_NODES, RT_BINDING_BVH_ORDER,    RT_BINDING_WIDE_NODES,
-    RT_BINDING_WIDE_INDEX, RT_BINDING_COUNTERS,  RT_BINDING_LEAF_SPHERES, RT_BINDING_GRID_CELLS,
-    RT_BINDING_LOOP_GUARD};
+    RT_BINDING_SPHERES,  RT_BINDING_BVH_NODES,    RT_BINDING_BVH_ORDER,  RT_BINDING_WIDE_NODES, RT_BINDING_WIDE_INDEX,
+    RT_BINDING_COUNTERS, RT_BINDING_LEAF_SPHERES, RT_BINDING_GRID_CELLS, RT_BINDING_LOOP_GUARD};
 constexpr std::uint32_t kStorageBufferBindings = kStorageBufferSlots.size();
 static_assert(sizeof(SceneBuffers) == kStorageBufferBindings * sizeof(vk::Buffer));
 
@@ -140,8 +139,8 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
     return vk::DescriptorBufferInfo{.buffer = buffer, .offset = 0, .range = VK_WHOLE_SIZE};
   };
   const std::array<vk::Buffer, kStorageBufferBindings> handles{
-      buffers.spheres,   buffers.bvhNodes, buffers.bvhOrder,    buffers.wideNodes, buffers.wideIndex,
-      buffers.counters,  buffers.leafSpheres, buffers.gridCells, buffers.loopGuard};
+      buffers.spheres,  buffers.bvhNodes,    buffers.bvhOrder,  buffers.wideNodes, buffers.wideIndex,
+      buffers.counters, buffers.leafSpheres, buffers.gridCells, buffers.loopGuard};
   std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{};
   for (std::size_t i = 0; i < kStorageBufferBindings; ++i) bufferInfos[i] = whole(handles[i]);
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};
