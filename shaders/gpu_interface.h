@@ -71,6 +71,8 @@
 #define RT_SPEC_GRID_CELLS_Y 18
 #define RT_SPEC_GRID_CELLS_Z 19
 #define RT_SPEC_BVH_PAD_ORIGIN_SLOPE 20
+// --gpu-bvh grid: the spheres kept apart, the first slots (rt::SphereGrid::apartCount).
+#define RT_SPEC_GRID_APART_COUNT 21
 
 #define RT_STAGE_MEGAKERNEL 0
 #define RT_STAGE_WAVEFRONT_DEPTH 1

@@ -57,6 +57,9 @@ layout(constant_id = RT_SPEC_GRID_CELL_SIZE) const float GRID_CELL_SIZE = 1.0;
 layout(constant_id = RT_SPEC_GRID_CELLS_X) const int GRID_CELLS_X = 1;
 layout(constant_id = RT_SPEC_GRID_CELLS_Y) const int GRID_CELLS_Y = 1;
 layout(constant_id = RT_SPEC_GRID_CELLS_Z) const int GRID_CELLS_Z = 1;
+// The spheres it keeps apart: leaf slots 0 .. GRID_APART_COUNT - 1, tested
+// by every ray before the walk.
+layout(constant_id = RT_SPEC_GRID_APART_COUNT) const int GRID_APART_COUNT = 0;
 layout(constant_id = RT_SPEC_PERSISTENT) const bool PERSISTENT = false;
 // RT_STAGE_*: the megakernel, or a wavefront's depth or resolve dispatch.
 layout(constant_id = RT_SPEC_STAGE) const int STAGE = RT_STAGE_MEGAKERNEL;
