@@ -22,7 +22,8 @@ CentreRegion typicalCentreRegion(std::span<const Sphere> spheres) {
     region.hi[a] = values[static_cast<std::size_t>(high)];
   }
   region.centres = static_cast<std::size_t>(std::ranges::count_if(spheres, [&](const Sphere& s) {
-    return glm::all(glm::greaterThanEqual(s.position, region.lo)) && glm::all(glm::lessThanEqual(s.position, region.hi));
+    return glm::all(glm::greaterThanEqual(s.position, region.lo)) &&
+           glm::all(glm::lessThanEqual(s.position, region.hi));
   }));
   return region;
 }

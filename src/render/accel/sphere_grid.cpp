@@ -4,14 +4,15 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <functional>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "render/accel/centre_region.h"
 
@@ -43,7 +44,7 @@ float boxCoordinate(const Sphere& s) {
 // region where most centres lie; an axis of the region thinner than the
 // side counts as one cell. With the region's extents e1 >= e2 >= e3 and k
 // axes longer than the side s, the region holds e1 ... ek / s^k cells.
-double regionSide(std::span<const Sphere> spheres, double spheresPerCell) {
+double densitySide(std::span<const Sphere> spheres, double spheresPerCell) {
   const CentreRegion region = typicalCentreRegion(spheres);
   std::array<double, 4> e{double(region.hi.x) - region.lo.x, double(region.hi.y) - region.lo.y,
                           double(region.hi.z) - region.lo.z, 0.0};
@@ -55,8 +56,18 @@ double regionSide(std::span<const Sphere> spheres, double spheresPerCell) {
     const double side = std::pow(product / cellsWanted, 1.0 / static_cast<double>(k));
     if (side <= e[k - 1] && side > e[k]) return side;
   }
-  // Fewer centres than a cell holds, or all of them at one point.
-  return e[0] > 0.0 ? e[0] : 2.0 * double(spheres[0].radius);
+  return e[0];  // fewer centres than a cell holds, or all of them at one point
+}
+
+// The density's side, or the median sphere's diameter where that is wider:
+// a few large spheres close together (nested ones, a pile) would otherwise
+// get cells so small that each spans too many to be listed.
+double regionSide(std::span<const Sphere> spheres, double spheresPerCell) {
+  std::vector<float> radii(spheres.size());
+  std::ranges::transform(spheres, radii.begin(), [](const Sphere& s) { return s.radius; });
+  const auto middle = radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2);
+  std::ranges::nth_element(radii, middle);
+  return std::max(densitySide(spheres, spheresPerCell), 2.0 * double(*middle));
 }
 
 // How many cells the box of a sphere widened by `margin` spans.

@@ -54,7 +54,8 @@ struct SphereGrid {
 // holds `spheresPerCell` sphere centres on average where most centres lie
 // (render/accel/centre_region.h; an axis thinner than the side counts as
 // one cell, so that a layer of spheres on a ground gets cells the size of
-// their spacing). A sphere whose widened box would span more than
+// their spacing), or the median sphere's diameter where that is wider. A
+// sphere whose widened box would span more than
 // `apartCells` cells is kept apart, the largest `maxApart` of them at most;
 // the grid's box then follows the spheres it lists. The side is doubled
 // while that box would hold more than `maxCellsPerSphere` cells per listed

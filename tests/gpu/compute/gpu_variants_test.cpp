@@ -272,12 +272,13 @@ TEST_F(GpuVariants, TheGridReportsItsCellsAsItsNodes) {
   for (const auto& [name, apart] : {std::pair{"random1000", 0u}, std::pair{"ground500", 1u}}) {
     const Scene scene = loadNamedScene(name);
     renderFrame(gpu, scene, {16, 16}, options, kFrame);
-    EXPECT_EQ(gpu.info().gpuBvh, GpuBvh::grid);
-    ASSERT_TRUE(gpu.info().accelStructure.has_value());
+    const RendererInfo reported = gpu.info();
+    EXPECT_EQ(reported.gpuBvh, GpuBvh::grid);
+    ASSERT_TRUE(reported.accelStructure.has_value());
     const Bvh bvh = buildBvh(scene.spheres, kSingleSphereLeaves);
     const float origins = originBound(bvh.maxCoordinate, cameraMaxCoordinate(scene.camera));
     const SphereGrid grid = buildSphereGrid(scene.spheres, sphereGridMargins(scene.spheres, origins));
-    const AccelStructureInfo& info = *gpu.info().accelStructure;
+    const AccelStructureInfo& info = *reported.accelStructure;
     EXPECT_EQ(info.nodes, grid.cellCount()) << name;
     EXPECT_FALSE(info.depth.has_value()) << name;
     EXPECT_EQ(info.padding, BoxPadding::local) << name;

@@ -62,7 +62,8 @@ inline GridHit nearestHitInGrid(const kernel::Ray<float>& ray, std::span<const S
   const glm::ivec3 step(inverse.x >= 0.0f ? 1 : -1, inverse.y >= 0.0f ? 1 : -1, inverse.z >= 0.0f ? 1 : -1);
   const glm::ivec3 ahead = glm::max(step, glm::ivec3(0));
   glm::vec3 next;
-  for (int axis = 0; axis < 3; ++axis) next[axis] = gridPlaneDistance(grid, axis, cell[axis] + ahead[axis], ray, inverse);
+  for (int axis = 0; axis < 3; ++axis)
+    next[axis] = gridPlaneDistance(grid, axis, cell[axis] + ahead[axis], ray, inverse);
   while (true) {
     const std::size_t number = grid.cellNumber(cell);
     for (std::uint32_t slot = grid.cellFirst[number]; slot < grid.cellFirst[number + 1]; ++slot) test(slot);

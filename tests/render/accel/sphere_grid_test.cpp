@@ -195,7 +195,9 @@ TEST(SphereGrid, MarginsAreEachSpheresOwnPad) {
     for (const float origin : {0.0f, 1.0f, 0.5f * bound, bound}) {
       EXPECT_GE(margins[i], traversalPad(s.radius, coordinate, origin)) << i << " from " << origin;
     }
-    if (s.radius < 1.0f) EXPECT_LT(margins[i], 0.02f * scenePad) << i;
+    if (s.radius < 1.0f) {
+      EXPECT_LT(margins[i], 0.02f * scenePad) << i;
+    }
   }
   EXPECT_FLOAT_EQ(margins[0], scenePad) << "the ground's own pad is the scene's";
 }

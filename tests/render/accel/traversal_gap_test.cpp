@@ -62,7 +62,9 @@ std::size_t leafOf(const Bvh& bvh, std::uint32_t sphere) {
 TEST(TraversalGap, AHitAboveTheGroundsFloatBoxNeedsTheGroundsOwnPad) {
   const std::vector<Sphere> spheres = mixedSizes();
   const Sphere& ground = spheres[0];
-  const auto hitsGround = [&](float y) { return kernel::intersectSphere(overTheTop(y), ground) > kernel::kEpsilon<float>; };
+  const auto hitsGround = [&](float y) {
+    return kernel::intersectSphere(overTheTop(y), ground) > kernel::kEpsilon<float>;
+  };
   ASSERT_TRUE(hitsGround(0.0f));
   const float gap = lastFound(0.0f, 1e-3f, hitsGround);
   EXPECT_EQ(gap, 0x1p-15f) << "half an ulp of 1000";
