@@ -80,6 +80,23 @@ function(rt_renderer_definition out json i)
   set(${out} "    RendererDefinition{\"${flag}\",${pair} ${mask}, ${own}},\n" PARENT_SCOPE)
 endfunction()
 
+# The retired GPU variants (retired_gpu_variants): each one's name, its
+# flag, the value its column reads now (the first of its 'values' list) and
+# where its measurements are, as RetiredGpuVariant initialisers.
+function(rt_retired_gpu_variants out json)
+  string(JSON count LENGTH "${json}" retired_gpu_variants)
+  math(EXPR last "${count} - 1")
+  set(rows "")
+  foreach(i RANGE ${last})
+    foreach(field name flag values record)
+      string(JSON ${field} GET "${json}" retired_gpu_variants ${i} ${field})
+    endforeach()
+    string(JSON kept GET "${json}" ${values} 0 name)
+    string(APPEND rows "    RetiredGpuVariant{\"${name}\", \"${flag}\", \"${kept}\", \"${record}\"},\n")
+  endforeach()
+  set(${out} "${rows}" PARENT_SCOPE)
+endfunction()
+
 # "accel_structure" -> "AccelStructure"
 function(rt_pascal_case out name)
   string(REPLACE "_" ";" parts "${name}")
@@ -211,6 +228,9 @@ function(rt_generate_schema_header json_path header_path)
   string(JSON n_lane_widths LENGTH "${json}" lane_widths)
   string(REGEX REPLACE "[][ ]" "" lane_widths "${lane_widths}")
 
+  rt_retired_gpu_variants(retired_rows "${json}")
+  string(JSON n_retired LENGTH "${json}" retired_gpu_variants)
+
   # The scene loader's number limits; any JSON number text is a C++ literal.
   string(JSON scene_max_magnitude GET "${json}" scene_limits max_magnitude)
   string(JSON scene_min_length GET "${json}" scene_limits min_length)
@@ -247,6 +267,11 @@ struct RendererDefinition {\n  std::string_view flag;\n  std::optional<Kernel> k
 inline constexpr std::array<RendererDefinition, ${n_renderers}> kRendererDefinitions{{\n${renderer_defs}}};\n\n\
 struct StageDefinition {\n  Algorithm algorithm;\n  unsigned earlyExitMask;\n};\n\
 inline constexpr std::array<StageDefinition, ${n_stages}> kStageDefinitions{{\n${stage_defs}}};\n\n\
+// A GPU variant that was retired: its value, the flag that chose it, the\n\
+// value the flag's column reads now, and where its measurements are.\n\
+struct RetiredGpuVariant {\n  std::string_view name;\n  std::string_view flag;\n  std::string_view kept;\n\
+  std::string_view record;\n};\n\
+inline constexpr std::array<RetiredGpuVariant, ${n_retired}> kRetiredGpuVariants{{\n${retired_rows}}};\n\n\
 // Numbers a scene may hold (scene_limits; docs/render-model.md section 1).\n\
 inline constexpr double kSceneMaxMagnitude = ${scene_max_magnitude};\n\
 inline constexpr double kSceneMinLength = ${scene_min_length};\n\n\

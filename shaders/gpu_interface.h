@@ -18,25 +18,18 @@
 #define RT_BINDING_WIDE_INDEX 5
 // --counters: RT_COUNTER_COPIES copies of RT_COUNTER_SLOTS 64-bit counters.
 #define RT_BINDING_COUNTERS 6
-// --gpu-path wavefront: the ray queues (even and odd depths read one and
-// fill the other), each path's state, the two-pass algorithm's stored
-// segments, and the per-depth queue counts, dispatch sizes and fetch
-// counters (also persistent threads' fetch counter in the megakernel).
-#define RT_BINDING_QUEUE_EVEN 7
-#define RT_BINDING_QUEUE_ODD 8
-#define RT_BINDING_PATH_STATE 9
-#define RT_BINDING_SEGMENTS 10
-#define RT_BINDING_CONTROL 11
 // --accel bvh: the leaves' spheres in leaf order (of the BVH walked).
-#define RT_BINDING_LEAF_SPHERES 12
+#define RT_BINDING_LEAF_SPHERES 7
 // The ray-tracing pipeline renderer (gpu_rt): the top-level acceleration
 // structure its ray-generation shader traces (with the spheres and the
 // output image at their slots above; it binds nothing else).
-#define RT_BINDING_TLAS 13
+#define RT_BINDING_TLAS 8
 // --gpu-bvh grid: each cell's first slot and sphere count (rt::SphereGrid;
 // the slots' spheres and indices take the leaf spheres' and the BVH
 // order's bindings).
-#define RT_BINDING_GRID_CELLS 14
+#define RT_BINDING_GRID_CELLS 9
+// Lavapipe only: the words of its loop guard (loop_guard.glsl).
+#define RT_BINDING_LOOP_GUARD 10
 
 // Specialization constants: fixed per pipeline, so the compiler removes the
 // branches of the variants that are not used (as the C++ templates do).
@@ -52,60 +45,29 @@
 // --gpu-bvh wide, and the traversal stack it needs for the tree's depth.
 #define RT_SPEC_WIDE_BVH 6
 #define RT_SPEC_WIDE_STACK_SIZE 7
-// --gpu-schedule persistent.
-#define RT_SPEC_PERSISTENT 8
-// What one pipeline does: the megakernel, a wavefront depth, or the
-// wavefront's last dispatch that writes the image (RT_STAGE_*).
-#define RT_SPEC_STAGE 9
 // --counters.
-#define RT_SPEC_COUNTERS 10
+#define RT_SPEC_COUNTERS 8
 // The binary walk's stack, from the tree's depth.
-#define RT_SPEC_BVH_STACK_SIZE 11
+#define RT_SPEC_BVH_STACK_SIZE 9
 // --gpu-bvh grid, and the grid's corner, cell side and cells per axis.
-#define RT_SPEC_GRID 12
-#define RT_SPEC_GRID_ORIGIN_X 13
-#define RT_SPEC_GRID_ORIGIN_Y 14
-#define RT_SPEC_GRID_ORIGIN_Z 15
-#define RT_SPEC_GRID_CELL_SIZE 16
-#define RT_SPEC_GRID_CELLS_X 17
-#define RT_SPEC_GRID_CELLS_Y 18
-#define RT_SPEC_GRID_CELLS_Z 19
-#define RT_SPEC_BVH_PAD_ORIGIN_SLOPE 20
+#define RT_SPEC_GRID 10
+#define RT_SPEC_GRID_ORIGIN_X 11
+#define RT_SPEC_GRID_ORIGIN_Y 12
+#define RT_SPEC_GRID_ORIGIN_Z 13
+#define RT_SPEC_GRID_CELL_SIZE 14
+#define RT_SPEC_GRID_CELLS_X 15
+#define RT_SPEC_GRID_CELLS_Y 16
+#define RT_SPEC_GRID_CELLS_Z 17
+#define RT_SPEC_BVH_PAD_ORIGIN_SLOPE 18
+// Lavapipe's loop limit (loop_guard.glsl).
+#define RT_SPEC_LOOP_GUARD 19
 // --gpu-bvh grid: the spheres kept apart, the first slots (rt::SphereGrid::apartCount).
-#define RT_SPEC_GRID_APART_COUNT 21
-
-#define RT_STAGE_MEGAKERNEL 0
-#define RT_STAGE_WAVEFRONT_DEPTH 1
-#define RT_STAGE_WAVEFRONT_RESOLVE 2
+#define RT_SPEC_GRID_APART_COUNT 20
 
 // One invocation per pixel in 8x8 tiles: two 32-wide warps on NVIDIA, one
 // 64-wide wave on AMD, eight 8-wide rows for lavapipe's 256-bit vectors.
 #define RT_WORKGROUP_SIZE_X 8
 #define RT_WORKGROUP_SIZE_Y 8
-
-// Rays are numbered in 8x8 tiles, row of tiles by row of tiles, so that
-// the rays a subgroup fetches or a queue holds side by side come from
-// neighbouring pixels, as in an 8x8 workgroup.
-#define RT_TILE_SIZE 8
-#define RT_TILE_RAYS 64
-
-// A wavefront dispatch is RT_WAVEFRONT_GROUPS_X workgroups wide and as many
-// rows of them as its queue needs (RT_WAVEFRONT_GROUPS_X * RT_TILE_RAYS
-// rays a row), so that no dimension passes the 65535 groups every device
-// allows. Per depth the control buffer holds RT_CONTROL_WORDS words: the
-// indirect dispatch size (x, y, z), the queue's ray count and the persistent
-// threads' fetch counter.
-#define RT_WAVEFRONT_GROUPS_X 64
-#define RT_CONTROL_WORDS 8
-#define RT_CONTROL_GROUPS_Y 1
-#define RT_CONTROL_COUNT 3
-#define RT_CONTROL_FETCH 4
-
-// Persistent threads: workgroups launched (of RT_TILE_RAYS invocations),
-// enough to fill the largest GPUs (132 SMs of an H100 at 2048 threads hold
-// 4224 such groups at full occupancy; a traversal shader's registers allow
-// a quarter to a half of that); each subgroup fetches its rays.
-#define RT_PERSISTENT_WORKGROUPS 2048
 
 // --counters: slots 0 .. 63 count rays by bounce depth, then the LaneCounters
 // fields below, each a 64-bit counter as two uints (low word first). The
@@ -120,8 +82,12 @@
 #define RT_COUNTER_SLOTS 70
 #define RT_COUNTER_COPIES 64
 
-// Size of the push-constant block (bytes): the Vulkan-guaranteed minimum
-// of maxPushConstantsSize, so the pipeline runs on every device.
+// Lavapipe's compiler (gallivm) ends a subgroup's loops once they have run
+// this many iterations in all (loop_guard.glsl).
+#define RT_LAVAPIPE_LOOP_ITERATIONS 65535
+
+// The most the push-constant block may take (bytes): the Vulkan-guaranteed
+// minimum of maxPushConstantsSize, so the pipeline runs on every device.
 #define RT_PUSH_CONSTANT_BYTES 128
 
 // The push-constant block, one MEMBER(GLSL type, name, byte offset) per
@@ -132,7 +98,7 @@
 // in the C++ struct too, so a wrong offset fails the build (glslang also
 // rejects a misaligned one). The camera and image size change per frame,
 // the rest (rt::ShadingParams less maxDepth, a specialization constant)
-// per scene; wavefrontDepth per dispatch of a wavefront frame. Each vec3 shares its 16-byte slot with a scalar.
+// per scene. Each vec3 but the last shares its 16-byte slot with a scalar.
 #define RT_FRAME_CONSTANTS(MEMBER)     \
   MEMBER(vec3, cameraPosition, 0)      \
   MEMBER(float, tanHalfFov, 12)        \
@@ -148,7 +114,6 @@
   MEMBER(float, shininess, 92)         \
   MEMBER(vec3, ambientColor, 96)       \
   MEMBER(float, specularStrength, 108) \
-  MEMBER(vec3, background, 112)        \
-  MEMBER(int, wavefrontDepth, 124)
+  MEMBER(vec3, background, 112)
 
 #endif

@@ -38,8 +38,6 @@ TRAVERSAL_FLAG = "--traversal"
 HYBRID_THRESHOLD_FLAG = "--hybrid-threshold"
 GPU_FLAGS = {
     names.GPU_BVH: "--gpu-bvh",
-    names.GPU_SCHEDULE: "--gpu-schedule",
-    names.GPU_PATH: "--gpu-path",
     names.GPU_RT_REORDER: "--gpu-rt-reorder",
 }
 # The GPU axes whose values a device may lack while it runs the renderer:
@@ -78,8 +76,6 @@ class Config:
     hybrid_threshold: int | None = None
     # The GPU renderers' variants, "" where none applies (names.gpu_axes_of).
     gpu_bvh: str = ""
-    gpu_schedule: str = ""
-    gpu_path: str = ""
     gpu_rt_reorder: str = ""
     counters: bool = False
     # "" where the renderer table names no precisions (the binary's f32, no flag).
@@ -89,7 +85,7 @@ class Config:
     @property
     def gpu_axes(self) -> dict[str, str]:
         """The configuration's GPU variants by column (names.GPU_AXES), "" where none applies."""
-        return dict(zip(names.GPU_AXES, (self.gpu_bvh, self.gpu_schedule, self.gpu_path, self.gpu_rt_reorder)))
+        return dict(zip(names.GPU_AXES, (self.gpu_bvh, self.gpu_rt_reorder)))
 
     @property
     def id(self) -> str:
@@ -269,10 +265,9 @@ def traversals(profile: Profile, renderer: str, accel: str) -> list[tuple[str, i
 
 
 def gpu_variants(profile: Profile, renderer: str, accel: str) -> list[tuple[str, ...]]:
-    """The GPU axes' values (names.GPU_AXES: gpu_bvh, gpu_schedule, gpu_path,
-    gpu_rt_reorder) of each configuration a renderer runs at an accel: the
-    product of the profile's gpu_bvhs (accel bvh only), gpu_schedules and
-    gpu_paths for the GPU renderer, of its gpu_rt_reorders for gpu_rt
+    """The GPU axes' values (names.GPU_AXES: gpu_bvh, gpu_rt_reorder) of each
+    configuration a renderer runs at an accel: the profile's gpu_bvhs for
+    the GPU renderer at accel bvh, its gpu_rt_reorders for gpu_rt
     (names.gpu_axes_of), else one configuration without them."""
     has = names.gpu_axes_of(renderer, accel)
     chosen = {axis: profile.gpu_axis_values(key) for key, axis in GPU_KEYS.items()}

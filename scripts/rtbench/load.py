@@ -166,6 +166,21 @@ def _check_gpu_axes(path: Path, columns: dict[str, list]) -> None:
                     f"{path}: line {lineno}: column {axis}: {value} with renderer {renderer}, accel {accel} "
                     f"(applies to {where} only)"
                 )
+    _check_retired_gpu_axes(path, columns)
+
+
+def _check_retired_gpu_axes(path: Path, columns: dict[str, list]) -> None:
+    """The retired GPU axes' columns (names.RETIRED_GPU_AXES): the value left
+    or a retired one (whose run the loader leaves out: load_kept_runs), or
+    none, on the gpu renderer's rows only."""
+    for column, (kept, retired) in names.RETIRED_GPU_AXES.items():
+        _check_members(path, column, columns[column], ["", kept, *retired])
+        for lineno, (value, renderer) in enumerate(zip(columns[column], columns[names.RENDERER]), start=2):
+            if value and renderer != names.GPU_RENDERER:
+                raise RunDataError(
+                    f"{path}: line {lineno}: column {column}: {value} with renderer {renderer} "
+                    f"(applies to the {names.GPU_RENDERER} renderer only)"
+                )
 
 
 def _check_counters(path: Path, columns: dict[str, list]) -> None:
@@ -228,6 +243,10 @@ def load_one(csv_path: Path, meta_path: Path, config_id: str, repetition: int, s
     frames[names.TRAVERSAL] = _traversals(frames)
     for axis in names.GPU_AXES:
         frames[axis] = _gpu_axis(frames, axis)
+    for column, (kept, _) in names.RETIRED_GPU_AXES.items():
+        frames[column] = [
+            v or (kept if r == names.GPU_RENDERER else "") for v, r in zip(frames[column], frames[names.RENDERER])
+        ]
     frames[names.PRECISION] = [names.precision_of(p) for p in frames[names.PRECISION]]
     for column, value in _agreement(meta_path, meta).items():
         frames[column] = value
@@ -263,9 +282,8 @@ def _traversals(frames: pd.DataFrame) -> list[str]:
 def _gpu_axis(frames: pd.DataFrame, axis: str) -> list[str]:
     """One GPU axis' column; where a CSV leaves it empty (or lacks it) for a
     configuration that has the axis (names.gpu_axes_of), its default: the
-    only variant before the GPU axes (binary BVH, one invocation per pixel,
-    one dispatch per frame; gpu_rt: no reorder), so runs before and after
-    them compare."""
+    only variant before the GPU axes (binary BVH; gpu_rt: no reorder), so
+    runs before and after them compare."""
     default = names.GPU_AXIS_VALUES[axis][1]
     return [
         v or (default if axis in names.gpu_axes_of(r, a) else "")
@@ -405,7 +423,16 @@ def run_entries(run_dir: Path) -> list[tuple[Path, Path, str, int]]:
 
 
 def load_runs(run_dirs: list[Path]) -> pd.DataFrame:
-    """All finished runs of the given directories as one tidy frame."""
+    """All finished runs of the given directories as one tidy frame, less
+    those of retired GPU variants (load_kept_runs)."""
+    return load_kept_runs(run_dirs)[0]
+
+
+def load_kept_runs(run_dirs: list[Path]) -> tuple[pd.DataFrame, str | None]:
+    """All finished runs of the given directories as one tidy frame, and a
+    line on the runs left out because they ran a retired GPU variant
+    (names.RETIRED_GPU_AXES: their code is gone, their measurements are in
+    the record the schema names), None where there were none."""
     parts = []
     for run_dir in map(Path, run_dirs):
         if not run_dir.is_dir():
@@ -415,8 +442,33 @@ def load_runs(run_dirs: list[Path]) -> pd.DataFrame:
             parts.append(load_one(csv_path, meta_path, config_id, rep, source))
     if not parts:
         raise RunDataError(f"{', '.join(map(str, run_dirs))}: no finished runs (no CSV with status ok)")
-    frames = pd.concat(parts, ignore_index=True)
-    return _number_repetitions(frames)
+    kept = [p for p in parts if not _ran_retired_variant(p)]
+    note = _retired_note([p for p in parts if _ran_retired_variant(p)])
+    if not kept:
+        raise RunDataError(f"{', '.join(map(str, run_dirs))}: nothing left to report: {note}")
+    return _number_repetitions(pd.concat(kept, ignore_index=True)), note
+
+
+def _ran_retired_variant(run: pd.DataFrame) -> bool:
+    return any(run[column].isin(retired).any() for column, (_, retired) in names.RETIRED_GPU_AXES.items())
+
+
+def _retired_note(left_out: list[pd.DataFrame]) -> str | None:
+    """One line on the runs of retired GPU variants left out, None for none."""
+    if not left_out:
+        return None
+    configs = {p[names.CONFIG_ID].iloc[0] for p in left_out}
+    values = [
+        f"{column} {value}"
+        for column, (_, retired) in names.RETIRED_GPU_AXES.items()
+        for value in retired
+        if any(p[column].eq(value).any() for p in left_out)
+    ]
+    return (
+        f"{len(left_out)} run(s) of {len(configs)} configuration(s) left out: they ran retired GPU variants "
+        f"({', '.join(values)}), whose code is gone since they never gave the fastest frame; their measurements "
+        f"and the commit with their code are in {', '.join(names.RETIRED_GPU_RECORDS)}"
+    )
 
 
 def _number_repetitions(frames: pd.DataFrame) -> pd.DataFrame:

@@ -394,7 +394,7 @@ def _share(part: float, whole: float) -> float:
     return part / whole if whole > 0 else math.nan
 
 
-# --- the GPU renderers' variants (gpu_bvh, gpu_schedule, gpu_path; gpu_rt_reorder) -------
+# --- the GPU renderers' variants (gpu_bvh; gpu_rt_reorder) -------------------------------
 
 GPU_MS_MEDIAN = "gpu_ms_median"
 GPU_MS_CI_LOW = "gpu_ms_ci_low"
@@ -402,7 +402,7 @@ GPU_MS_CI_HIGH = "gpu_ms_ci_high"
 # The default variant's median gpu_ms over this one's: > 1, this variant is faster.
 SPEEDUP_OVER_DEFAULT = "speedup_over_default"
 # gpu_rt only: the compute gpu renderer's median gpu_ms in its default variant
-# on its BVH (binary, pixel, megakernel) over this one's, at the same scene,
+# on its BVH (binary) over this one's, at the same scene,
 # stage, size, device and build: > 1, the ray-tracing pipeline is faster.
 SPEEDUP_OVER_GPU = "speedup_over_gpu"
 # What makes a gpu_rt configuration and the gpu's comparable (SPEEDUP_OVER_GPU).
@@ -433,10 +433,9 @@ def gpu_variants(frames: pd.DataFrame) -> pd.DataFrame:
     """Per configuration of a renderer that times its frames on the device
     (names.GPU_MS_RENDERERS: gpu and gpu_rt) and measured gpu_ms in its
     measured frames: their count, the median gpu_ms (the device time of the
-    frame's dispatches or ray traces: one, or a wavefront frame's all) with
-    its bootstrap CI, and its speedup over the default variant of the same
-    configuration otherwise (gpu: binary BVH, one invocation per pixel, one
-    dispatch; gpu_rt: no reorder); NaN where that did not run. gpu_rt rows
+    frame's dispatch or ray trace) with its bootstrap CI, and its speedup
+    over the default variant of the same configuration otherwise (gpu:
+    binary BVH; gpu_rt: no reorder); NaN where that did not run. gpu_rt rows
     also get their speedup over the gpu renderer's default variant on its BVH
     (SPEEDUP_OVER_GPU; NaN on the gpu's rows). Empty unless the run has a
     variant besides the default or gpu_rt (has_gpu_ms_table). Sorted as the

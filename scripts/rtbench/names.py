@@ -50,15 +50,19 @@ EARLY_EXIT = _column("early_exit")
 ACCEL = _column("accel")
 TRAVERSAL = _column("traversal")
 HYBRID_THRESHOLD = _column("hybrid_threshold")
-# The GPU renderer's traversal variants (the schema's gpu_bvhs, gpu_schedules, gpu_paths).
+# The GPU renderer's walk of the BVH (the schema's gpu_bvhs).
 GPU_BVH = _column("gpu_bvh")
-GPU_SCHEDULE = _column("gpu_schedule")
-GPU_PATH = _column("gpu_path")
 # The ray-tracing-pipeline renderer's (gpu_rt) one variant: whether it
 # reorders hits before shading (the schema's gpu_rt_reorders). It is a GPU
-# axis like the three above, of another renderer (GPU_AXIS_RENDERER).
+# axis like the one above, of another renderer (GPU_AXIS_RENDERER).
 GPU_RT_REORDER = _column("gpu_rt_reorder")
-GPU_AXES = [GPU_BVH, GPU_SCHEDULE, GPU_PATH, GPU_RT_REORDER]
+GPU_AXES = [GPU_BVH, GPU_RT_REORDER]
+# The GPU renderer's schedule and path: axes once, of one value each since
+# their other variants were retired (the schema's retired_gpu_variants;
+# RETIRED_GPU_AXES). The CSV keeps both columns, which read that value for
+# the gpu renderer; the loader leaves the runs of a retired value out.
+GPU_SCHEDULE = _column("gpu_schedule")
+GPU_PATH = _column("gpu_path")
 # The floating-point type of the render model's arithmetic (the schema's
 # precisions): f32 unless the run used --precision f16, the thesis' half-
 # precision experiment. A CSV written before the column lacks it: f32.
@@ -89,7 +93,7 @@ DEPTH_SEPARATOR = "/"
 # kernel does not walk a BVH, the GPU variants for the CPU renderers,
 # counters without --counters), and that a CSV written before them lacks:
 # the loader reads such a CSV as if they were empty.
-OPTIONAL_COLUMNS = [TRAVERSAL, HYBRID_THRESHOLD, *GPU_AXES, PRECISION, *COUNTER_COLUMNS]
+OPTIONAL_COLUMNS = [TRAVERSAL, HYBRID_THRESHOLD, *GPU_AXES, GPU_SCHEDULE, GPU_PATH, PRECISION, *COUNTER_COLUMNS]
 # The host wall time of each phase of the frame loop (the schema's phases:
 # Update, Render, Present), whose sum is the time of the whole frame.
 PHASE_MS = [_column(f"{phase.lower()}_ms") for phase in schema.schema()["phases"]]
@@ -216,9 +220,11 @@ AUTO_ACCEL = "auto"
 assert AUTO_ACCEL in ACCELS, "schema/rt_schema.json: accels"
 RUN_ACCELS: list[str] = [a for a in ACCELS if a != AUTO_ACCEL]
 TRAVERSALS: list[str] = [t["name"] for t in schema.schema()["traversals"]]
-GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"]]
-GPU_SCHEDULES: list[str] = [s["name"] for s in schema.schema()["gpu_schedules"]]
-GPU_PATHS: list[str] = [p["name"] for p in schema.schema()["gpu_paths"]]
+# --gpu-bvh auto: the binary probes the walks and its CSV names the one it
+# kept; a profile names the walks it measures.
+AUTO_GPU_BVH = "auto"
+assert AUTO_GPU_BVH in [b["name"] for b in schema.schema()["gpu_bvhs"]], "schema/rt_schema.json: gpu_bvhs"
+GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"] if b["name"] != AUTO_GPU_BVH]
 GPU_RT_REORDERS: list[str] = [r["name"] for r in schema.schema()["gpu_rt_reorders"]]
 PRECISIONS: list[str] = [p["name"] for p in schema.schema()["precisions"]]
 CSV_COLUMNS: list[str] = schema.frame_csv_columns()
@@ -240,13 +246,23 @@ BVH = _member("bvh", "accels", ACCELS)
 PACKET = _member("packet", "traversals", TRAVERSALS)
 HYBRID = _member("hybrid", "traversals", TRAVERSALS)
 KERNELS: dict[str, str | None] = {name: r["kernel"] for name, r in schema.renderers().items()}
-# The GPU renderer (--gpu) and its variants as they ran before the GPU axes
-# (binary BVH, one invocation per pixel, one dispatch per frame): the default
-# of each axis, which labels leave unsaid and the loader gives older CSVs.
+# The GPU renderer (--gpu) and its walk as it ran before the GPU axes
+# (binary BVH): the default, which labels leave unsaid and the loader gives
+# older CSVs.
 GPU_RENDERER = _member("gpu", "renderers", RENDERERS)
 BINARY = _member("binary", "gpu_bvhs", GPU_BVHS)
-PIXEL = _member("pixel", "gpu_schedules", GPU_SCHEDULES)
-MEGAKERNEL = _member("megakernel", "gpu_paths", GPU_PATHS)
+# The retired GPU axes (schema: retired_gpu_variants): column -> (the value
+# the gpu renderer's rows read now, which the loader also gives older CSVs;
+# the retired values, whose runs it leaves out). Also the profile keys that
+# named them once (the schema's lists: gpu_schedules, gpu_paths), and where
+# the retired variants' measurements are.
+RETIRED_GPU_AXES: dict[str, tuple[str, list[str]]] = schema.retired_gpu_axes()
+if sorted(RETIRED_GPU_AXES) != sorted([GPU_SCHEDULE, GPU_PATH]):
+    raise ImportError(
+        "rtbench expects gpu_schedule and gpu_path as the retired GPU axes (schema: retired_gpu_variants)"
+    )
+RETIRED_GPU_PROFILE_KEYS: dict[str, str] = {r["values"]: r["column"] for r in schema.schema()["retired_gpu_variants"]}
+RETIRED_GPU_RECORDS: list[str] = list(dict.fromkeys(r["record"] for r in schema.schema()["retired_gpu_variants"]))
 # The ray-tracing-pipeline renderer (--gpu-rt): the driver's own acceleration
 # structure, hits shaded where they were traced unless told to reorder them.
 GPU_RT_RENDERER = _member("gpu_rt", "renderers", RENDERERS)
@@ -266,15 +282,11 @@ F16 = _member("f16", "precisions", PRECISIONS)
 # Each GPU axis: (its values in schema order, its default).
 GPU_AXIS_VALUES: dict[str, tuple[list[str], str]] = {
     GPU_BVH: (GPU_BVHS, BINARY),
-    GPU_SCHEDULE: (GPU_SCHEDULES, PIXEL),
-    GPU_PATH: (GPU_PATHS, MEGAKERNEL),
     GPU_RT_REORDER: (GPU_RT_REORDERS, NO_REORDER),
 }
 # The renderer each GPU axis belongs to; the others leave its column empty.
 GPU_AXIS_RENDERER: dict[str, str] = {
     GPU_BVH: GPU_RENDERER,
-    GPU_SCHEDULE: GPU_RENDERER,
-    GPU_PATH: GPU_RENDERER,
     GPU_RT_REORDER: GPU_RT_RENDERER,
 }
 
@@ -333,9 +345,8 @@ def takes_traversal(renderer: str, accel: str) -> bool:
 
 
 def gpu_axes_of(renderer: str, accel: str) -> list[str]:
-    """The GPU axes a configuration has: the GPU renderer's schedule and path,
-    and its BVH with accel bvh only; gpu_rt's reorder; none for the other
-    renderers."""
+    """The GPU axes a configuration has: the GPU renderer's BVH with accel
+    bvh only; gpu_rt's reorder; none for the other renderers."""
     return [axis for axis in GPU_AXES if GPU_AXIS_RENDERER[axis] == renderer and (axis != GPU_BVH or accel == BVH)]
 
 
@@ -345,16 +356,16 @@ def where_gpu_axis_applies(axis: str) -> str:
 
 
 # How a label shows a GPU axis' value that is not the default: the compute
-# renderer's values name their axis already (wide, persistent, wavefront);
-# a bare "hit" would not, so the reorder says what it reorders.
+# renderer's walks name their axis already (wide, grid); a bare "hit" would
+# not, so the reorder says what it reorders.
 GPU_TAG_FORMATS: dict[str, str] = {GPU_RT_REORDER: "{}-reorder"}
 
 
-def gpu_tag(gpu_bvh="", gpu_schedule="", gpu_path="", gpu_rt_reorder="") -> list[str]:
+def gpu_tag(gpu_bvh="", gpu_rt_reorder="") -> list[str]:
     """The GPU variants that are not the defaults (which labels leave unsaid,
-    as before the GPU axes), in axis order: [], ["wide"], ["persistent",
-    "wavefront"], ["hit-reorder"]. Each tag says its axis."""
-    values = dict(zip(GPU_AXES, (gpu_bvh, gpu_schedule, gpu_path, gpu_rt_reorder)))
+    as before the GPU axes), in axis order: [], ["wide"], ["hit-reorder"].
+    Each tag says its axis."""
+    values = dict(zip(GPU_AXES, (gpu_bvh, gpu_rt_reorder)))
     return [
         GPU_TAG_FORMATS.get(axis, "{}").format(v)
         for axis, v in values.items()

@@ -5,9 +5,9 @@ into configurations and a schedule.
 A profile names scenes, stages (or explicit algorithm / early-exit sets),
 accels (how a ray finds its nearest sphere: the schema's accels),
 traversals (how the SIMD kernel walks the BVH: the schema's traversals),
-the GPU renderer's variants (gpu_bvhs, gpu_schedules, gpu_paths: the
-schema's lists of them), the gpu_rt renderer's (gpu_rt_reorders) and whether the counting renderers count their lane
-work (counters), renderers with
+the GPU renderer's walks (gpu_bvhs: the schema's list of them), the gpu_rt
+renderer's hit reordering (gpu_rt_reorders) and whether the counting
+renderers count their lane work (counters), renderers with
 their own axes (the renderer options the schema gives each, of threads,
 lanes, grain and partition; and device, present), their precisions and
 agreement check (precisions, agreement), the image
@@ -90,11 +90,9 @@ class Profile:
     # traversal hybrid's thresholds (empty: the kernel's default).
     traversals: tuple[str, ...] = (names.PACKET,)
     hybrid_thresholds: tuple[int, ...] = ()
-    # The GPU renderer's variants (names.gpu_axes_of): its BVH where accel is
-    # bvh, its schedule and path; each defaults to the way it ran before them.
+    # The GPU renderer's walk where accel is bvh (names.gpu_axes_of); by
+    # default the way it ran before the walks.
     gpu_bvhs: tuple[str, ...] = (names.BINARY,)
-    gpu_schedules: tuple[str, ...] = (names.PIXEL,)
-    gpu_paths: tuple[str, ...] = (names.MEGAKERNEL,)
     # The gpu_rt renderer's hit reordering; by default none, as it shades.
     gpu_rt_reorders: tuple[str, ...] = (names.NO_REORDER,)
     counters: bool = False
@@ -168,8 +166,6 @@ def parse_profile(raw: dict, path: Path) -> Profile:
         traversals=tuple(values["traversals"]),
         hybrid_thresholds=tuple(values.get("hybrid_thresholds", ())),
         gpu_bvhs=tuple(values["gpu_bvhs"]),
-        gpu_schedules=tuple(values["gpu_schedules"]),
-        gpu_paths=tuple(values["gpu_paths"]),
         gpu_rt_reorders=tuple(values["gpu_rt_reorders"]),
         counters=values["counters"],
         architecture=values["architecture"],
@@ -214,8 +210,6 @@ KINDS = {  # kind -> (description, test)
 # The profile keys of the GPU renderers' variants -> the CSV column (names.GPU_AXES) each sets.
 GPU_KEYS = {
     "gpu_bvhs": names.GPU_BVH,
-    "gpu_schedules": names.GPU_SCHEDULE,
-    "gpu_paths": names.GPU_PATH,
     "gpu_rt_reorders": names.GPU_RT_REORDER,
 }
 
@@ -228,10 +222,8 @@ TOP_RULES = {
     "traversals": Rule("str", [names.PACKET], shape="list", choices=tuple(names.TRAVERSALS)),
     # --hybrid-threshold: lanes; 0 would mean the kernel's default, which leaving the key out says.
     "hybrid_thresholds": Rule("int", OPTIONAL, shape="list", minimum=1),
-    # The GPU renderer's variants: --gpu-bvh (accel bvh only), --gpu-schedule, --gpu-path.
+    # The GPU renderer's walk: --gpu-bvh (accel bvh only).
     "gpu_bvhs": Rule("str", [names.BINARY], shape="list", choices=tuple(names.GPU_BVHS)),
-    "gpu_schedules": Rule("str", [names.PIXEL], shape="list", choices=tuple(names.GPU_SCHEDULES)),
-    "gpu_paths": Rule("str", [names.MEGAKERNEL], shape="list", choices=tuple(names.GPU_PATHS)),
     # The gpu_rt renderer's variant: --gpu-rt-reorder.
     "gpu_rt_reorders": Rule("str", [names.NO_REORDER], shape="list", choices=tuple(names.GPU_RT_REORDERS)),
     "counters": Rule("bool", False),
@@ -347,9 +339,11 @@ def check_value(value, rule: Rule, path: Path, key: str):
 
 
 def check_table(table: dict, rules: dict[str, Rule], path: Path, where: str = "", what: str = "key") -> dict:
-    """Checks every key of a TOML table against its rule: no unknown keys, no
-    missing required ones, each value as its rule says. Returns the values
-    with the defaults filled in (absent OPTIONAL keys stay absent)."""
+    """Checks every key of a TOML table against its rule: no unknown keys (a
+    retired one is named as such), no missing required ones, each value as
+    its rule says. Returns the values with the defaults filled in (absent
+    OPTIONAL keys stay absent)."""
+    _refuse_retired_keys(table, path, where)
     unknown = sorted(set(table) - set(rules))
     if unknown:
         raise ProfileError(f"{path}: unknown {what} '{where}{unknown[0]}' (known: {', '.join(sorted(rules))})")
@@ -363,6 +357,20 @@ def check_table(table: dict, rules: dict[str, Rule], path: Path, where: str = ""
         elif rule.default is not OPTIONAL:
             values[key] = copy.copy(rule.default)
     return values
+
+
+def _refuse_retired_keys(table: dict, path: Path, where: str) -> None:
+    """The keys of the retired GPU axes (names.RETIRED_GPU_PROFILE_KEYS:
+    gpu_schedules, gpu_paths): refused, saying that the GPU renderer runs
+    their one remaining value now and where the retired variants' measurements are."""
+    retired = [key for key in names.RETIRED_GPU_PROFILE_KEYS if key in table]
+    if retired:
+        key = retired[0]
+        kept, gone = names.RETIRED_GPU_AXES[names.RETIRED_GPU_PROFILE_KEYS[key]]
+        raise ProfileError(
+            f"{path}: {where}{key}: retired: the GPU renderer always runs {kept} now, so leave the key out; the "
+            f"measurements of the retired {' and '.join(gone)} are in {', '.join(names.RETIRED_GPU_RECORDS)}"
+        )
 
 
 def _variant(entry, path: Path, index: int) -> Variant:
@@ -438,8 +446,8 @@ def _check_traversal_keys(values: dict, renderers: dict, path: Path) -> None:
 
 
 def _check_gpu_keys(values: dict, renderers: dict, path: Path) -> None:
-    """gpu_bvhs, gpu_schedules, gpu_paths and gpu_rt_reorders name each
-    variant once and, where they ask for more than the default, reach a
+    """gpu_bvhs and gpu_rt_reorders name each variant once and, where they
+    ask for more than the default, reach a
     configuration: the renderer of the axis (names.GPU_AXIS_RENDERER: gpu, or
     gpu_rt for gpu_rt_reorders), with accel bvh for gpu_bvhs."""
     for key, axis in GPU_KEYS.items():

@@ -67,6 +67,8 @@ class ReportInputs:
     gpu_estimates: list[metrics.GpuEstimate]
     gpu_override: float | None = None
     budgets_ms: tuple[float, ...] = budget.DEFAULT_BUDGETS_MS
+    # The line on the runs of retired GPU variants the loader left out (load.load_kept_runs), if any.
+    left_out_note: str | None = None
 
 
 @dataclass
@@ -92,7 +94,7 @@ def gather(
 ) -> ReportInputs:
     """Loads the runs (strictly: errors name the file) and the thesis' data."""
     run_dirs = [Path(d) for d in run_dirs]
-    frames = load.load_runs(run_dirs)
+    frames, left_out_note = load.load_kept_runs(run_dirs)
     manifests = [load.read_manifest(d) for d in run_dirs]
     return ReportInputs(
         run_dirs,
@@ -103,6 +105,7 @@ def gather(
         metrics.load_gpu_estimates(),
         gpu_override,
         tuple(budgets_ms),
+        left_out_note,
     )
 
 
@@ -206,6 +209,7 @@ def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
     """The runner's machine warnings, plus what the data themselves show."""
     warnings = [w for m in inputs.manifests if m for w in m.get("warnings", [])]
     warnings += [n for d, m in zip(inputs.run_dirs, inputs.manifests) if (n := load.unfinished_note(d, m))]
+    warnings += [inputs.left_out_note] if inputs.left_out_note else []
     spreads = {stats.config_label(r): r["rep_spread"] for _, r in summary.iterrows()}
     warnings += noise.spread_warnings(spreads)
     builds = sorted(set(inputs.frames[names.BUILD_TYPE]))
@@ -519,14 +523,9 @@ def _gpu_variants_section(by_slug: dict[str, tables.Table]) -> str:
 GPU_VARIANTS_TITLE = "GPU traversal variants"
 GPU_VARIANTS_TEXT = """The GPU renderer in each of its variants: the structure its shader walks
 (`binary`, `wide`: the 8-wide tree, or `grid`: a uniform grid of cells, which
-is not a tree), how its invocations get their rays
-(`pixel`: one per pixel; `persistent`: persistent threads fetching rays from
-a global counter) and the path (`megakernel`: one dispatch follows every
-bounce; `wavefront`: one dispatch per bounce depth over a compacted queue of
-live rays), compared by their device time (gpu_ms), not render_ms: the
+is not a tree), compared by their device time (gpu_ms), not render_ms: the
 host's time around a submit and a wait is mostly not the tracing at these
-frame times. Descriptions: schema/rt_schema.json's gpu_bvhs, gpu_schedules,
-gpu_paths.
+frame times. Descriptions: schema/rt_schema.json's gpu_bvhs.
 """
 GPU_RT_TEXT = """
 Beside them the gpu_rt renderer: the Vulkan ray-tracing pipeline
@@ -743,12 +742,10 @@ TRAVERSAL_NOTE = """- The accel column names the traversal where the SIMD kernel
   `bvh hybridN`: packets until at most N lanes reach a node, then single
   rays); plain `bvh` is packets, the only way before the traversal axis.
 """
-GPU_VARIANTS_NOTE = """- The accel column names the GPU renderer's variants where they are not the
-  defaults (binary BVH, one invocation per pixel, one dispatch per frame):
-  `bvh wide` walks the 8-wide BVH, `persistent` runs persistent threads,
-  `wavefront` one dispatch per bounce depth (`none persistent wavefront`,
-  `bvh wide persistent`, ...). Tables 1-4 and the comparisons with the
-  thesis show the default variant; the GPU section compares them all.
+GPU_VARIANTS_NOTE = """- The accel column names the GPU renderer's walk where it is not the default
+  (the binary BVH): `bvh wide` walks the 8-wide BVH, `bvh grid` the grid.
+  Tables 1-4 and the comparisons with the thesis show the default walk; the
+  GPU section compares them all.
 """
 GPU_RT_NOTE = """- gpu_rt (the ray-tracing pipeline) always walks the driver's own structure:
   its accel is `bvh`, and `bvh hit-reorder` where it reordered its hits

@@ -48,6 +48,17 @@ def accepted_options(renderer: str) -> list[str]:
     return list(renderers()[renderer]["options"])
 
 
+def retired_gpu_axes() -> dict[str, tuple[str, list[str]]]:
+    """Each GPU axis whose variants were retired (retired_gpu_variants), by
+    its CSV column: the one value it reads now (the first of its 'values'
+    list) and the retired ones, in schema order."""
+    axes: dict[str, tuple[str, list[str]]] = {}
+    for retired in schema()["retired_gpu_variants"]:
+        kept = schema()[retired["values"]][0]["name"]
+        axes.setdefault(retired["column"], (kept, []))[1].append(retired["name"])
+    return axes
+
+
 def lane_widths() -> list[int]:
     return list(schema()["lane_widths"])
 

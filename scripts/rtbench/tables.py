@@ -368,7 +368,7 @@ CONFIG_COLUMNS = [
 def accel_text(d: dict) -> str:
     """The accel, the traversal where it is not packets and the GPU variants
     where they are not the defaults (names.variant_tag): 'bvh', 'bvh single',
-    'bvh hybrid8', 'bvh wide persistent', 'none wavefront'."""
+    'bvh hybrid8', 'bvh wide', 'bvh hit-reorder'."""
     return " ".join([d[names.ACCEL], *names.variant_tag(d)])
 
 
@@ -638,8 +638,8 @@ def gpu_variants(variants: pd.DataFrame) -> Table:
     default = " / ".join(names.GPU_AXIS_VALUES[axis][1] for axis in compute_axes)
     devices = sorted({d for d in variants[names.DEVICE] if d})
     notes = [
-        "gpu_ms = median device time of the frame's render dispatches (GPU timestamps; a wavefront frame's "
-        "dispatches summed) over the measured frames of all repetitions; CI = bootstrap 95% CI of the median. "
+        "gpu_ms = median device time of the frame's render work (GPU timestamps) "
+        "over the measured frames of all repetitions; CI = bootstrap 95% CI of the median. "
         f"× default = the default variant's median ({default}: the one the renderer ran before its variants) "
         f"over this one's, at the same stage, scene, accel and size (> 1: faster), {MISSING} where the default "
         f"did not run. BVH {MISSING}: accel {names.BRUTE_FORCE}, no BVH to walk."
@@ -659,8 +659,6 @@ def gpu_variants(variants: pd.DataFrame) -> Table:
             names.ACCEL,
             "size",
             "BVH",
-            "schedule",
-            "path",
             *(["reorder"] if with_rt else []),
             "n",
             "gpu_ms",
@@ -676,7 +674,7 @@ def gpu_variants(variants: pd.DataFrame) -> Table:
 
 GPU_RT_VARIANTS_NOTE = (
     f"{names.GPU_RT_RENDERER}: the Vulkan ray-tracing pipeline on the driver's own acceleration structure (its "
-    f"accel is always {names.BVH}; BVH, schedule and path are the compute renderer's and do not apply); its "
+    f"accel is always {names.BVH}; the BVH column is the compute renderer's and does not apply); its "
     f"gpu_ms times the frame's ray traces as the {names.GPU_RENDERER} renderer's times its dispatches. reorder: "
     f"{names.NO_REORDER}, or hit (the invocations reordered by the sphere they hit before shading, "
     f"VK_NV_ray_tracing_invocation_reorder); its × default is over reorder {names.NO_REORDER}. × gpu = the "

@@ -69,7 +69,7 @@ struct RawOptions {
   int hybridThreshold = RenderOptions::kDefaultHybridThreshold;
   CLI::Option* hybridThresholdOption = nullptr;
   bool counters = false;
-  std::string gpuBvh, gpuSchedule, gpuPath, gpuRtReorder;
+  std::string gpuBvh, gpuRtReorder;
   std::string precision;
   std::string lanes = "native";
   std::string partition;
@@ -220,22 +220,41 @@ void addTraversalOptions(CLI::App& app, RawOptions& raw) {
                    "columns, metadata lane_counters)");
 }
 
-// The GPU renderer's traversal axes (schema: gpu_bvhs, gpu_schedules, gpu_paths).
+// The retired GPU variants' names that `flag` chose (schema:
+// retired_gpu_variants), "persistent" or "a and b".
+std::string retiredNamesOf(std::string_view flag) {
+  std::string text;
+  for (const auto& variant : schema::kRetiredGpuVariants) {
+    if (variant.flag == flag) text += (text.empty() ? "" : " and ") + std::string(variant.name);
+  }
+  return text;
+}
+
+// The flags of the retired GPU variants stay known, hidden from --help, so
+// that an old command line learns why it is refused and where the variants'
+// measurements are, whichever value it gives (their default too: the GPU
+// renderer has no other now).
+void addRetiredGpuOptions(CLI::App& app) {
+  for (const auto& variant : schema::kRetiredGpuVariants) {
+    const std::string flag(variant.flag);
+    if (app.get_option_no_throw(flag) != nullptr) continue;
+    const std::string message = flag + " was retired: the GPU renderer always runs " + std::string(variant.kept) +
+                                " now, so leave the option out; the measurements of the retired " +
+                                retiredNamesOf(flag) + " are in " + std::string(variant.record);
+    app.add_option_function<std::string>(
+           flag, [flag, message](const std::string&) { throw CLI::ValidationError(flag, message); })
+        ->group("");
+  }
+}
+
+// The GPU renderers' variants (schema: gpu_bvhs, gpu_rt_reorders).
 void addGpuOptions(CLI::App& app, RawOptions& raw) {
   const RenderOptions defaults;
   app.add_option("--gpu-bvh", raw.gpuBvh,
-                 "which BVH the GPU renderer's shader walks (" + gpuFlag() + " with --accel bvh): " +
-                     joinNames(schema::kGpuBvhNames, "|") + " (default " + std::string(nameOf(defaults.gpuBvh)) + ")")
+                 "which BVH the GPU renderer's shader walks (" + gpuFlag() + " with --accel bvh or auto): " +
+                     joinNames(schema::kGpuBvhNames, "|") + " (default " + std::string(nameOf(defaults.gpuBvh)) +
+                     "; auto with --accel auto: the fastest in a probe frame of each)")
       ->check(CLI::IsMember(namesOf(schema::kGpuBvhNames)));
-  app.add_option("--gpu-schedule", raw.gpuSchedule,
-                 "how the GPU renderer's invocations get their rays (" + gpuFlag() +
-                     "): " + joinNames(schema::kGpuScheduleNames, "|") + " (default " +
-                     std::string(nameOf(defaults.gpuSchedule)) + ")")
-      ->check(CLI::IsMember(namesOf(schema::kGpuScheduleNames)));
-  app.add_option("--gpu-path", raw.gpuPath,
-                 "how the GPU renderer runs a frame, one dispatch or one per bounce depth (" + gpuFlag() + "): " +
-                     joinNames(schema::kGpuPathNames, "|") + " (default " + std::string(nameOf(defaults.gpuPath)) + ")")
-      ->check(CLI::IsMember(namesOf(schema::kGpuPathNames)));
   app.add_option("--gpu-rt-reorder", raw.gpuRtReorder,
                  "whether the ray-tracing pipeline renderer (" + gpuRtFlag() +
                      ") reorders its invocations by hit before shading (VK_NV_ray_tracing_invocation_reorder): " +
@@ -374,19 +393,15 @@ void applyTraversalOptions(const RawOptions& raw, RunConfig& config) {
   config.options.counters = raw.counters;
 }
 
-// The GPU renderer's axes (schema: gpu_bvhs, gpu_schedules, gpu_paths) mean
-// nothing to the CPU renderers, and its BVH choice nothing without a BVH; as
-// for --traversal, a run would record a setting it ignored. Each is refused
-// there whenever it is given, its default value too. Runs after
-// applyModelOptions (config.options.accel).
+// The GPU renderer's walk (schema: gpu_bvhs) means nothing to the other
+// renderers, nor without a BVH; as for --traversal, a run would record a
+// setting it ignored. It is refused there whenever it is given, its default
+// value too. Runs after applyModelOptions (config.options.accel).
 void applyGpuOptions(const RawOptions& raw, RunConfig& config) {
-  const std::pair<const char*, const std::string*> given[] = {
-      {"--gpu-bvh", &raw.gpuBvh}, {"--gpu-schedule", &raw.gpuSchedule}, {"--gpu-path", &raw.gpuPath}};
-  for (const auto& [option, value] : given) {
-    if (value->empty() || config.renderer == RendererKind::gpu) continue;
-    throw CLI::ValidationError(option, std::string(option) + " applies to the GPU renderer (" + gpuFlag() +
-                                           ") only; renderer " + std::string(nameOf(config.renderer)) +
-                                           " does not take it");
+  if (!raw.gpuBvh.empty() && config.renderer != RendererKind::gpu) {
+    throw CLI::ValidationError("--gpu-bvh", "--gpu-bvh applies to the GPU renderer (" + gpuFlag() +
+                                                ") only; renderer " + std::string(nameOf(config.renderer)) +
+                                                " does not take it");
   }
   if (!raw.gpuBvh.empty()) {
     if (config.options.accel == Accel::none) {
@@ -397,11 +412,9 @@ void applyGpuOptions(const RawOptions& raw, RunConfig& config) {
                                                   accel + ")");
     }
     config.options.gpuBvh = *enumByName<GpuBvh>(schema::kGpuBvhNames, raw.gpuBvh);
+  } else if (config.renderer == RendererKind::gpu && config.options.accel == Accel::auto_) {
+    config.options.gpuBvh = GpuBvh::auto_;  // --accel auto chooses the walk too (schema: gpu_bvhs)
   }
-  if (!raw.gpuSchedule.empty()) {
-    config.options.gpuSchedule = *enumByName<GpuSchedule>(schema::kGpuScheduleNames, raw.gpuSchedule);
-  }
-  if (!raw.gpuPath.empty()) config.options.gpuPath = *enumByName<GpuPath>(schema::kGpuPathNames, raw.gpuPath);
   if (!raw.gpuRtReorder.empty()) {
     if (config.renderer != RendererKind::gpu_rt) {
       throw CLI::ValidationError("--gpu-rt-reorder", "--gpu-rt-reorder applies to the ray-tracing pipeline renderer (" +
@@ -490,6 +503,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   addModelOptions(app, raw);
   addTraversalOptions(app, raw);
   addGpuOptions(app, raw);
+  addRetiredGpuOptions(app);
   addRendererOptions(app, raw, config);
   addOutputOptions(app, raw);
   addDeviceOptions(app, raw, config);

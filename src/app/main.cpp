@@ -76,6 +76,21 @@ void waitForTracyViewer() {
   while (!TracyIsConnected) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
+// --gpu-bvh auto's choice, said once before the frames: what each candidate
+// took in the probe and which one runs (the metadata's gpu_walk_probe).
+std::string describeWalkProbe(const rt::RunIdentity& id) {
+  const rt::GpuWalkProbe& probe = *id.renderer.gpuWalkProbe;
+  std::string text = "--gpu-bvh auto: probe frames of " + std::to_string(probe.extent.width) + "x" +
+                     std::to_string(probe.extent.height) + " took (gpu_ms)";
+  for (const auto& [candidate, ms] : probe.gpuMs) {
+    char figure[32];
+    std::snprintf(figure, sizeof figure, " %.3f", ms);
+    text += " " + candidate + figure;
+  }
+  return text + "; runs " +
+         (id.renderer.gpuBvh ? std::string(rt::nameOf(*id.renderer.gpuBvh)) : "brute force (accel none)");
+}
+
 std::string describeRun(const rt::RunIdentity& id, const rt::RunConfig& config) {
   return std::string(rt::nameOf(id.renderer.kind)) + " scene=" + id.scene + " " + std::to_string(id.extent.width) +
          "x" + std::to_string(id.extent.height) + " threads=" + std::to_string(id.renderer.threads) +
@@ -139,6 +154,8 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
   }
   const rt::RunIdentity identity =
       rt::makeRunIdentity(rt::makeRunId(times.startedAt), scene, *renderer, config, rt::recordedDevice(setup));
+  if (identity.renderer.gpuWalkProbe && !config.quiet)
+    std::cerr << "raytracer: " << describeWalkProbe(identity) << "\n";
   [[maybe_unused]] const std::string description = describeRun(identity, config);
   TracyMessage(description.data(), description.size());
   rt::LiveView* view = nullptr;
@@ -152,7 +169,10 @@ std::shared_ptr<const rt::gpu::ValidationCounter> renderAndWrite(const rt::RunCo
   if (setup.window) window = rt::WindowOutcome{setup.window->swapchainInfo(), setup.window->closed()};
 #endif
 
-  // Frames that completed are written even when a later one failed.
+  // Frames that completed are written even when a later one failed; a run
+  // whose first frame failed (lavapipe's loop limit, a lost device) writes
+  // nothing, as one refused before its frames.
+  if (result.failure && result.records.empty()) std::rethrow_exception(result.failure);
   const auto agreement = agreementWithReference(config, scene, result.agreementFrame);
   writeOutputs(config, identity, scene, result, times, window, agreement);
   if (result.failure) std::rethrow_exception(result.failure);

@@ -6,11 +6,13 @@ namespace rt {
 
 namespace {
 
-// The options as they ran: --accel auto as what prepare() settled on, the
-// structure it kept or brute force (the CSV and the metadata never say auto).
+// The options as they ran: --accel auto and --gpu-bvh auto as what
+// prepare() settled on, the structure and walk it kept or brute force (the
+// CSV and the metadata never say auto).
 RenderOptions optionsAsRun(const RenderOptions& asked, const RendererInfo& prepared) {
   RenderOptions options = asked;
   if (options.accel == Accel::auto_) options.accel = prepared.accelStructure ? Accel::bvh : Accel::none;
+  if (options.gpuBvh == GpuBvh::auto_) options.gpuBvh = prepared.gpuBvh.value_or(RenderOptions{}.gpuBvh);
   return options;
 }
 

@@ -248,6 +248,24 @@ nlohmann::json accelStructureJson(const RendererInfo& renderer) {
   });
 }
 
+nlohmann::json gpuWalkProbeJson(const RendererInfo& renderer) {
+  if (!renderer.gpuWalkProbe) return nullptr;
+  const GpuWalkProbe& probe = *renderer.gpuWalkProbe;
+  using Key = schema::MetadataGpuWalkProbeKey;
+  return objectOf<Key>(schema::kMetadataGpuWalkProbeKeyNames, [&](Key key) -> nlohmann::json {
+    switch (key) {
+      case Key::width: return probe.extent.width;
+      case Key::height: return probe.extent.height;
+      case Key::gpu_ms: {
+        nlohmann::json byCandidate = nlohmann::json::object();
+        for (const auto& [candidate, ms] : probe.gpuMs) byCandidate[candidate] = ms;
+        return byCandidate;
+      }
+    }
+    unhandledKey("gpu_walk_probe");
+  });
+}
+
 nlohmann::json laneCountersJson(const std::optional<LaneCounters>& counters) {
   if (!counters) return nullptr;
   const LaneCounters& c = *counters;
@@ -419,6 +437,7 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::outputs: value = outputsJson(config); break;
       case RunMetadataKey::prepare_ms: value = times.prepareMs; break;
       case RunMetadataKey::accel_structure: value = accelStructureJson(identity.renderer); break;
+      case RunMetadataKey::gpu_walk_probe: value = gpuWalkProbeJson(identity.renderer); break;
       case RunMetadataKey::lane_counters: value = laneCountersJson(laneCounters); break;
       case RunMetadataKey::agreement: value = agreementJson(agreement); break;
       case RunMetadataKey::device: value = deviceJson(identity); break;

@@ -56,12 +56,9 @@ struct RenderOptions {
   // measured default for its packet width.
   static constexpr int kDefaultHybridThreshold = 0;
   int hybridThreshold = kDefaultHybridThreshold;
-  // The GPU renderer's traversal axes (docs/render-model.md section 3, "How
-  // the GPU renderer walks the BVH"); none changes the image. gpuBvh applies
-  // with accel bvh only; schedule and path with either accel.
+  // The GPU renderer's walk (docs/render-model.md section 3, "How the GPU
+  // renderer walks the BVH"), with accel bvh only; never changes the image.
   GpuBvh gpuBvh = GpuBvh::binary;
-  GpuSchedule gpuSchedule = GpuSchedule::pixel;
-  GpuPath gpuPath = GpuPath::megakernel;
   // The gpu_rt renderer: reorder invocations by hit before shading
   // (VK_NV_ray_tracing_invocation_reorder); never changes the image.
   GpuRtReorder gpuRtReorder = GpuRtReorder::none;

@@ -2,6 +2,8 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/image.h"
 #include "render/accel/accel_structure_info.h"
@@ -16,6 +18,14 @@ namespace rt {
 class RendererUnavailable : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// --gpu-bvh auto: the probe prepare() ran to choose the GPU renderer's walk
+// (metadata gpu_walk_probe): each candidate's least gpu_ms over its probe
+// frames, at the probe's size; "none" stands for brute force.
+struct GpuWalkProbe {
+  Extent extent;
+  std::vector<std::pair<std::string, double>> gpuMs;
 };
 
 // How a renderer runs, as recorded in every CSV row and the metadata.
@@ -35,10 +45,13 @@ struct RendererInfo {
   std::optional<Traversal> traversal{};
   std::optional<int> hybridThreshold{};
   // The GPU renderer's axes as prepare() set them up: the BVH its shader
-  // walks (accel bvh only), its schedule and its path; empty elsewhere.
+  // walks (accel bvh only), its schedule and its path (each of one value
+  // since the others were retired: schema retired_gpu_variants, recorded
+  // in the CSV and the metadata all the same); empty elsewhere.
   std::optional<GpuBvh> gpuBvh{};
   std::optional<GpuSchedule> gpuSchedule{};
   std::optional<GpuPath> gpuPath{};
+  std::optional<GpuWalkProbe> gpuWalkProbe{};  // with --gpu-bvh auto only
   // The gpu_rt renderer's hit reorder; empty elsewhere.
   std::optional<GpuRtReorder> gpuRtReorder{};
   // The type of the render model's arithmetic (docs/render-model.md section 10).

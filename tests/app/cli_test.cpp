@@ -128,61 +128,63 @@ TEST(Cli, CountersNeedACountingRenderer) {
         << refused.error;
   }
   EXPECT_TRUE(parseOk({"--gpu", "--counters"}).options.counters);
-  EXPECT_TRUE(parseOk({"--gpu", "--accel", "bvh", "--gpu-path", "wavefront", "--counters"}).options.counters);
+  EXPECT_TRUE(parseOk({"--gpu", "--accel", "bvh", "--gpu-bvh", "wide", "--counters"}).options.counters);
   EXPECT_FALSE(parseOk({"--gpu"}).options.counters);
 }
 
-// Every name of the GPU renderer's axes parses to its enum value (schema:
-// gpu_bvhs, gpu_schedules, gpu_paths); the defaults are RenderOptions'.
-TEST(Cli, GpuAxesFillTheRenderOptions) {
+// Every name of the GPU renderer's walk parses to its enum value (schema:
+// gpu_bvhs); the default is RenderOptions'.
+TEST(Cli, GpuBvhFillsTheRenderOptions) {
   const RunConfig plain = parseOk({"--gpu", "--accel", "bvh"});
   EXPECT_EQ(plain.options.gpuBvh, GpuBvh::binary);
-  EXPECT_EQ(plain.options.gpuSchedule, GpuSchedule::pixel);
-  EXPECT_EQ(plain.options.gpuPath, GpuPath::megakernel);
   for (std::size_t i = 0; i < schema::kGpuBvhNames.size(); ++i) {
     const std::string name(schema::kGpuBvhNames[i]);
     EXPECT_EQ(parseOk({"--gpu", "--accel", "bvh", "--gpu-bvh", name.c_str()}).options.gpuBvh, static_cast<GpuBvh>(i))
         << name;
   }
-  for (std::size_t i = 0; i < schema::kGpuScheduleNames.size(); ++i) {
-    const std::string name(schema::kGpuScheduleNames[i]);
-    EXPECT_EQ(parseOk({"--gpu", "--gpu-schedule", name.c_str()}).options.gpuSchedule, static_cast<GpuSchedule>(i))
-        << name << ": with either accel";
-    EXPECT_EQ(parseOk({"--gpu", "--accel", "bvh", "--gpu-schedule", name.c_str()}).options.gpuSchedule,
-              static_cast<GpuSchedule>(i))
-        << name;
-  }
-  for (std::size_t i = 0; i < schema::kGpuPathNames.size(); ++i) {
-    const std::string name(schema::kGpuPathNames[i]);
-    EXPECT_EQ(parseOk({"--gpu", "--gpu-path", name.c_str()}).options.gpuPath, static_cast<GpuPath>(i)) << name;
-    EXPECT_EQ(parseOk({"--gpu", "--accel", "bvh", "--gpu-path", name.c_str()}).options.gpuPath, static_cast<GpuPath>(i))
-        << name;
-  }
-  const RunConfig all = parseOk({"--gpu", "--accel", "bvh", "--gpu-bvh", "wide", "--gpu-schedule", "persistent",
-                                 "--gpu-path", "wavefront", "--stage", "original"});
-  EXPECT_EQ(all.options.gpuBvh, GpuBvh::wide) << "--stage must not reset it";
-  EXPECT_EQ(all.options.gpuSchedule, GpuSchedule::persistent);
-  EXPECT_EQ(all.options.gpuPath, GpuPath::wavefront);
-  EXPECT_EQ(all.options.algorithm, Algorithm::two_pass);
+  const RunConfig wide = parseOk({"--gpu", "--accel", "bvh", "--gpu-bvh", "wide", "--stage", "original"});
+  EXPECT_EQ(wide.options.gpuBvh, GpuBvh::wide) << "--stage must not reset it";
+  EXPECT_EQ(wide.options.algorithm, Algorithm::two_pass);
 }
 
-// A CPU renderer would record a GPU setting it ignored: each option is
+// A CPU renderer would record a GPU setting it ignored: the option is
 // refused there, its default value too.
-TEST(Cli, GpuAxesNeedTheGpuRenderer) {
-  const std::vector<std::vector<const char*>> options = {{"--gpu-bvh", "binary"},      {"--gpu-bvh", "wide"},
-                                                         {"--gpu-schedule", "pixel"},  {"--gpu-schedule", "persistent"},
-                                                         {"--gpu-path", "megakernel"}, {"--gpu-path", "wavefront"}};
-  for (const char* renderer : {"--sequential", "--simd", "--simd-only", "--tbb-only", "--embree"}) {
-    for (const auto& option : options) {
-      const CliExit refused = test::parseFails({renderer, "--accel", "bvh", option[0], option[1]});
-      EXPECT_EQ(refused.code, kExitBadInput) << renderer << " " << option[0];
+TEST(Cli, GpuBvhNeedsTheGpuRenderer) {
+  for (const char* renderer : {"--sequential", "--simd", "--simd-only", "--tbb-only", "--embree", "--gpu-rt"}) {
+    for (const char* bvh : {"binary", "wide"}) {
+      const CliExit refused = test::parseFails({renderer, "--accel", "bvh", "--gpu-bvh", bvh});
+      EXPECT_EQ(refused.code, kExitBadInput) << renderer << " " << bvh;
       const std::string rendererName(nameOf(parseOk({renderer}).renderer));
-      EXPECT_NE(refused.error.find(std::string(option[0]) + ": " + option[0] +
-                                   " applies to the GPU renderer (--gpu) only; renderer " + rendererName +
-                                   " does not take it"),
+      EXPECT_NE(refused.error.find("--gpu-bvh: --gpu-bvh applies to the GPU renderer (--gpu) only; renderer " +
+                                   rendererName + " does not take it"),
                 std::string::npos)
           << refused.error;
     }
+  }
+}
+
+// The retired variants' flags (schema retired_gpu_variants) are refused
+// with every value, the one that remains too, and the error says where the
+// measurements went; --help no longer lists them.
+TEST(Cli, RetiredGpuVariantsAreRefusedWithTheirRecord) {
+  ASSERT_FALSE(schema::kRetiredGpuVariants.empty());
+  const std::string help = std::get<CliExit>(parse({"--help"})).output;
+  for (const auto& variant : schema::kRetiredGpuVariants) {
+    const std::string flag(variant.flag);
+    for (const std::string value : {std::string(variant.name), std::string(variant.kept)}) {
+      for (const char* renderer : {"--gpu", "--simd"}) {
+        const CliExit refused = test::parseFails({renderer, flag.c_str(), value.c_str()});
+        EXPECT_EQ(refused.code, kExitBadInput) << flag << " " << value;
+        EXPECT_NE(refused.error.find(flag + ": " + flag + " was retired: the GPU renderer always runs " +
+                                     std::string(variant.kept) + " now"),
+                  std::string::npos)
+            << refused.error;
+        EXPECT_NE(refused.error.find(std::string(variant.name) + " are in " + std::string(variant.record)),
+                  std::string::npos)
+            << refused.error;
+      }
+    }
+    EXPECT_EQ(help.find(flag), std::string::npos) << flag << " is retired, yet --help lists it";
   }
 }
 
@@ -197,9 +199,7 @@ TEST(Cli, GpuBvhNeedsABvh) {
     EXPECT_EQ(exitCode({"--gpu", "--accel", "none", "--gpu-bvh", bvh}), kExitBadInput) << bvh;
   }
   EXPECT_EQ(exitCode({"--gpu", "--accel", "bvh", "--gpu-bvh", "quad"}), kExitBadInput);
-  EXPECT_EQ(exitCode({"--gpu", "--gpu-schedule", "tiles"}), kExitBadInput);
-  EXPECT_EQ(exitCode({"--gpu", "--gpu-path", "zigzag"}), kExitBadInput);
-  EXPECT_EQ(exitCode({"--gpu", "--gpu-path"}), kExitBadInput) << "a value is needed";
+  EXPECT_EQ(exitCode({"--gpu", "--accel", "bvh", "--gpu-bvh"}), kExitBadInput) << "a value is needed";
 }
 
 TEST(Cli, SaveFrameAndOutputs) {
@@ -237,9 +237,8 @@ TEST(Cli, HelpAndVersionExitWithZero) {
   auto help = parse({"--help"});
   EXPECT_EQ(std::get<CliExit>(help).code, 0);
   EXPECT_NE(std::get<CliExit>(help).output.find("--early-exit"), std::string::npos);
-  for (const char* option :
-       {"--traversal", "packet|single|hybrid", "--hybrid-threshold", "--counters", "--gpu-bvh", "binary|wide",
-        "--gpu-schedule", "pixel|persistent", "--gpu-path", "megakernel|wavefront"}) {
+  for (const char* option : {"--traversal", "packet|single|hybrid", "--hybrid-threshold", "--counters", "--gpu-bvh",
+                             "binary|wide|grid", "--gpu-rt-reorder"}) {
     EXPECT_NE(std::get<CliExit>(help).output.find(option), std::string::npos) << option;
   }
   auto version = parse({"--version"});

@@ -180,8 +180,9 @@ TEST(FrameCsv, TraversalColumnsAreTheRenderersOrEmpty) {
   EXPECT_EQ(field(row, hybrid_threshold), "9");
 }
 
-// The GPU renderer's axes as its RendererInfo reports them; gpu_bvh is
-// empty with accel none, and all three for the CPU renderers.
+// The GPU renderer's axes as its RendererInfo reports them (gpu_schedule
+// and gpu_path of one value each since the others were retired); gpu_bvh
+// is empty with accel none, and all three for the CPU renderers.
 TEST(FrameCsv, GpuAxisColumnsAreTheRenderersOrEmpty) {
   using enum schema::FrameCsvColumn;
   RunIdentity id = identity();
@@ -191,15 +192,13 @@ TEST(FrameCsv, GpuAxisColumnsAreTheRenderersOrEmpty) {
     EXPECT_EQ(field(row, c), "") << schema::kFrameCsvColumnNames[column(c)] << ": none applies to a CPU renderer";
   }
   id.renderer.kind = RendererKind::gpu;
-  id.renderer.gpuSchedule = GpuSchedule::persistent;
-  id.renderer.gpuPath = GpuPath::wavefront;
-  row = parseCsv(formatFrameCsv(id, one))[1];
-  EXPECT_EQ(field(row, gpu_bvh), "") << "accel none: no BVH";
-  EXPECT_EQ(field(row, gpu_schedule), "persistent");
-  EXPECT_EQ(field(row, gpu_path), "wavefront");
-  id.renderer.gpuBvh = GpuBvh::wide;
   id.renderer.gpuSchedule = GpuSchedule::pixel;
   id.renderer.gpuPath = GpuPath::megakernel;
+  row = parseCsv(formatFrameCsv(id, one))[1];
+  EXPECT_EQ(field(row, gpu_bvh), "") << "accel none: no BVH";
+  EXPECT_EQ(field(row, gpu_schedule), "pixel");
+  EXPECT_EQ(field(row, gpu_path), "megakernel");
+  id.renderer.gpuBvh = GpuBvh::wide;
   row = parseCsv(formatFrameCsv(id, one))[1];
   EXPECT_EQ(field(row, gpu_bvh), "wide");
   EXPECT_EQ(field(row, gpu_schedule), "pixel");

@@ -131,13 +131,13 @@ TEST(RunMetadata, GpuAxesAreTheRenderersOrEmpty) {
   for (const char* key : {"gpu_bvh", "gpu_schedule", "gpu_path"}) EXPECT_EQ(meta["config"][key], "") << key;
   id.renderer = RendererInfo{};
   id.renderer.kind = RendererKind::gpu;
-  id.renderer.gpuSchedule = GpuSchedule::persistent;
-  id.renderer.gpuPath = GpuPath::wavefront;
+  id.renderer.gpuSchedule = GpuSchedule::pixel;
+  id.renderer.gpuPath = GpuPath::megakernel;
   meta = makeRunMetadata(config, id, scene, {now, now});
   EXPECT_EQ(meta["config"]["renderer"], "gpu");
   EXPECT_EQ(meta["config"]["gpu_bvh"], "") << "accel none: no BVH";
-  EXPECT_EQ(meta["config"]["gpu_schedule"], "persistent");
-  EXPECT_EQ(meta["config"]["gpu_path"], "wavefront");
+  EXPECT_EQ(meta["config"]["gpu_schedule"], "pixel");
+  EXPECT_EQ(meta["config"]["gpu_path"], "megakernel");
   id.renderer.gpuBvh = GpuBvh::wide;
   meta = makeRunMetadata(config, id, scene, {now, now});
   EXPECT_EQ(meta["config"]["gpu_bvh"], "wide");

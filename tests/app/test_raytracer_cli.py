@@ -255,12 +255,13 @@ def test_bad_traversal_or_counters_exit_2_naming_the_option(raytracer, repo_root
     assert list(tmp_path.iterdir()) == []
 
 
-# The GPU renderer's axes (schema: gpu_bvhs, gpu_schedules, gpu_paths): its
-# options are refused for any other renderer, the default values too, and
-# --gpu-bvh without a BVH, before anything is rendered or written.
+# The GPU renderer's axes (the CSV columns and metadata keys; schema:
+# gpu_bvhs, gpu_schedules, gpu_paths): --gpu-bvh is refused for any other
+# renderer, its default value too, and without a BVH; the retired variants'
+# flags (schema: retired_gpu_variants) with any value, naming where their
+# measurements are; all before anything is rendered or written.
 GPU_AXES = ["gpu_bvh", "gpu_schedule", "gpu_path"]
-GPU_AXIS_OPTIONS = {"gpu_bvh": "--gpu-bvh", "gpu_schedule": "--gpu-schedule", "gpu_path": "--gpu-path"}
-GPU_AXIS_NAMES = {axis: schema.schema()[axis + "s"] for axis in GPU_AXES}
+RETIRED = schema.schema()["retired_gpu_variants"]
 
 
 @pytest.mark.parametrize(
@@ -268,22 +269,29 @@ GPU_AXIS_NAMES = {axis: schema.schema()[axis + "s"] for axis in GPU_AXES}
     [
         *[
             (
-                [renderer, "--accel", "bvh", GPU_AXIS_OPTIONS[axis], entry["name"]],
-                f"{GPU_AXIS_OPTIONS[axis]}: {GPU_AXIS_OPTIONS[axis]} applies to the GPU renderer (--gpu) only; "
+                [renderer, "--accel", "bvh", "--gpu-bvh", entry["name"]],
+                "--gpu-bvh: --gpu-bvh applies to the GPU renderer (--gpu) only; "
                 f"renderer {schema_name} does not take it",
             )
             for renderer, schema_name in [("--sequential", "sequential"), ("--simd", "simd_tbb")]
-            for axis in GPU_AXES
-            for entry in GPU_AXIS_NAMES[axis]
+            for entry in schema.schema()["gpu_bvhs"]
+        ],
+        *[
+            (
+                ["--gpu", retired["flag"], value],
+                f"{retired['flag']}: {retired['flag']} was retired: the GPU renderer always runs "
+                f"{schema.schema()[retired['values']][0]['name']} now, so leave the option out; the measurements "
+                f"of the retired {retired['name']} are in {retired['record']}",
+            )
+            for retired in RETIRED
+            for value in (retired["name"], schema.schema()[retired["values"]][0]["name"], "tiles")
         ],
         (
             ["--gpu", "--gpu-bvh", "wide"],
             "--gpu-bvh: --gpu-bvh wide chooses the BVH the shader walks: it needs --accel bvh or auto (accel is none)",
         ),
         (["--gpu", "--accel", "none", "--gpu-bvh", "binary"], "it needs --accel bvh or auto (accel is none)"),
-        (["--gpu", "--gpu-schedule", "tiles"], "--gpu-schedule: tiles not in {pixel,persistent}"),
-        (["--gpu", "--gpu-path", "zigzag"], "--gpu-path: zigzag not in {megakernel,wavefront}"),
-        (["--gpu", "--accel", "bvh", "--gpu-bvh", "quad"], "--gpu-bvh: quad not in {binary,wide,grid}"),
+        (["--gpu", "--accel", "bvh", "--gpu-bvh", "quad"], "--gpu-bvh: quad not in {binary,wide,grid,auto}"),
         (["--gpu", "--traversal", "single", "--accel", "bvh"], "renderer gpu has no traversal"),
     ],
 )
@@ -418,8 +426,8 @@ def gpu_run(raytracer, scene, tmp_path, *flags):
 @pytest.mark.parametrize(
     "flags",
     [
-        ["--gpu-schedule", "persistent", "--gpu-path", "wavefront"],
-        ["--accel", "bvh", "--gpu-bvh", "wide", "--gpu-schedule", "pixel", "--gpu-path", "megakernel", "--counters"],
+        ["--accel", "bvh", "--gpu-bvh", "grid"],
+        ["--accel", "bvh", "--gpu-bvh", "wide", "--counters"],
         ["--counters"],
     ],
 )
@@ -432,18 +440,14 @@ def test_gpu_axes_and_counters_are_accepted_for_the_gpu_renderer(raytracer, repo
 
 
 # RendererInfo's gpuBvh, gpuSchedule and gpuPath are the GPU renderer's to
-# fill (render/renderer.h): schedule and path always, the BVH with accel bvh
-# only. Strict: once it does, this passes and the marker must go.
+# fill (render/renderer.h): schedule and path always (their one remaining
+# values since the others were retired), the BVH with accel bvh only.
 @pytest.mark.parametrize(
     "flags, expected",
     [
         ([], ["", "pixel", "megakernel"]),
         (["--accel", "bvh"], ["binary", "pixel", "megakernel"]),
-        (["--gpu-schedule", "persistent", "--gpu-path", "wavefront"], ["", "persistent", "wavefront"]),
-        (
-            ["--accel", "bvh", "--gpu-bvh", "wide", "--gpu-schedule", "persistent", "--gpu-path", "wavefront"],
-            ["wide", "persistent", "wavefront"],
-        ),
+        (["--accel", "bvh", "--gpu-bvh", "wide"], ["wide", "pixel", "megakernel"]),
     ],
 )
 def test_a_gpu_run_records_its_axes(raytracer, repo_root, tmp_path, flags, expected):
@@ -455,7 +459,7 @@ def test_a_gpu_run_records_its_axes(raytracer, repo_root, tmp_path, flags, expec
 # A GPU run with --counters fills the counter columns and lane_counters as
 # a SIMD run does (the columns' GPU meaning: schema frame_csv). Strict: once
 # GPURenderer::lastCounters() reports, this passes and the marker must go.
-@pytest.mark.parametrize("flags", [[], ["--accel", "bvh", "--gpu-path", "wavefront"]])
+@pytest.mark.parametrize("flags", [[], ["--accel", "bvh", "--gpu-bvh", "wide"]])
 def test_a_gpu_run_with_counters_fills_the_counter_columns(raytracer, repo_root, tmp_path, flags):
     rows, meta = gpu_run(raytracer, repo_root / "scenes/random20.json", tmp_path, "--counters", *flags)
     for r in rows:
@@ -633,19 +637,22 @@ def test_brute_force_over_a_large_scene_says_what_it_costs(raytracer, repo_root,
 
 # --accel auto: the CSV and the metadata record what ran, the tree where it
 # pays (a 1000-sphere scene) and brute force where it does not (20 spheres).
+# The GPU renderer with a walk named (without one it probes them all:
+# tests/gpu/test_gpu_cli.py).
 @pytest.mark.parametrize(
     ("renderer", "scene", "ran"),
     [
         ("--simd", "random1000", "bvh"),
         ("--simd", "random20", "none"),
         ("--sequential", "ground500", "bvh"),
-        ("--gpu", "random1000", "bvh"),
-        ("--gpu", "random20", "none"),
+        ("--gpu --gpu-bvh binary", "random1000", "bvh"),
+        ("--gpu --gpu-bvh binary", "random20", "none"),
     ],
 )
 def test_accel_auto_records_the_structure_that_ran(raytracer, repo_root, tmp_path, renderer, scene, ran):
     csv_path = tmp_path / "run.csv"
-    done = run(raytracer, renderer, "--accel", "auto", repo_root / f"scenes/{scene}.json", *SMALL, "--csv", csv_path)
+    scene_path = repo_root / f"scenes/{scene}.json"
+    done = run(raytracer, *renderer.split(), "--accel", "auto", scene_path, *SMALL, "--csv", csv_path)
     assert done.returncode == 0, done.stderr
     with csv_path.open(newline="") as f:
         assert {r["accel"] for r in csv.DictReader(f)} == {ran}

@@ -157,6 +157,57 @@ def test_gpu_bvh_run_records_its_structure(raytracer, repo_root, tmp_path):
     assert structure["kind"] == "bvh" and structure["nodes"] > 1
 
 
+# --accel auto on the GPU renderer: the walk is chosen by a probe (--gpu-bvh
+# auto, its default there), which runs at half the size of an image of more
+# than 2^19 pixels; the CSV and metadata name what ran, and the image is
+# brute force's.
+def test_gpu_accel_auto_probes_the_walks_and_records_the_one_that_ran(raytracer, repo_root, tmp_path):
+    size = ["--width", "1024", "--height", "600", "--warmup", "0", "--frames", "1"]
+    scene = repo_root / "scenes/random20.json"
+    auto_csv, auto_frame, brute_frame = tmp_path / "auto.csv", tmp_path / "auto.png", tmp_path / "brute.png"
+    done = run(
+        raytracer, "--gpu", scene, *size, "--accel", "auto", "--csv", auto_csv, "--save-frame", f"0:{auto_frame}"
+    )
+    assert done.returncode == 0, done.stderr
+    assert "--gpu-bvh auto: probe frames of 512x300 took (gpu_ms) binary " in done.stderr, done.stderr
+    probe = json.loads((tmp_path / "auto.meta.json").read_text())["gpu_walk_probe"]
+    assert (probe["width"], probe["height"]) == (512, 300)
+    assert list(probe["gpu_ms"]) == sorted(["binary", "wide", "grid", "none"])
+    fastest = min(probe["gpu_ms"], key=probe["gpu_ms"].get)
+    [row] = read_csv(auto_csv)
+    assert (row["accel"], row["gpu_bvh"]) == (("none", "") if fastest == "none" else ("bvh", fastest))
+    done = run(raytracer, "--gpu", scene, *size, "--quiet", "--save-frame", f"0:{brute_frame}")
+    assert done.returncode == 0, done.stderr
+    assert auto_frame.read_bytes() == brute_frame.read_bytes()
+
+
+# Lavapipe's loop limit (render model section 8): a walk whose loops pass it
+# (20,000 coincident spheres, no box to cull) fails the run with exit 2,
+# naming the limit, and writes nothing, where lavapipe has that limit (Mesa
+# 22.3); where it has not, the image agrees with the double reference.
+def test_a_walk_past_lavapipes_loop_limit_fails_the_run_or_draws_right(raytracer, repo_root, tmp_path):
+    scene = json.loads((repo_root / "scenes/default.json").read_text())
+    scene["spheres"] = [
+        {"position": [0.0, 0.0, 0.0], "radius": 1.0, "color": [1.0 - (i % 7) / 7, (i % 7) / 7, 0.5]}
+        for i in range(20_000)
+    ]
+    pile = tmp_path / "pile.json"
+    pile.write_text(json.dumps(scene))
+    default = [line for line in run(raytracer, "--list-devices").stdout.splitlines() if re.match(r"^  \d+\*", line)]
+    if not default or "driver=llvmpipe" not in default[0]:
+        pytest.skip(f"lavapipe's limit; the default device is {default}")
+    csv_path = tmp_path / "run.csv"
+    done = run(raytracer, "--gpu", "--accel", "bvh", pile, *SMALL, "--agreement", "--csv", csv_path)
+    if done.returncode == 0:
+        agreement = json.loads((tmp_path / "run.meta.json").read_text())["agreement"]
+        assert agreement["within_tolerance"] == 1.0, agreement
+        return
+    assert done.returncode == EXIT_BAD_INPUT, done.stderr
+    assert "lavapipe ends a shader invocation's loops after 65535 iterations" in done.stderr, done.stderr
+    assert "--gpu-bvh binary" in done.stderr
+    assert not csv_path.exists() and not (tmp_path / "run.meta.json").exists()
+
+
 def test_cpu_renderer_uploads_by_default_when_a_device_opens(raytracer, repo_root, tmp_path):
     csv_path = tmp_path / "run.csv"
     done = run(

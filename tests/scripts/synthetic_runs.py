@@ -41,7 +41,8 @@ class SyntheticConfig:
 
     @property
     def id(self) -> str:
-        accel = "".join(f"-{tag}" for tag in names.accel_tag(self.columns()))
+        retired = [v for c, (_, gone) in names.RETIRED_GPU_AXES.items() for v in gone if self.columns()[c] == v]
+        accel = "".join(f"-{tag}" for tag in [*names.accel_tag(self.columns()), *retired])
         size = f"{self.width}x{self.height}"
         return f"{self.scene}-{self.renderer}-{self.stage}{accel}-t{self.threads}-l{self.lanes}-{size}"
 

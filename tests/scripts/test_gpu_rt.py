@@ -194,7 +194,7 @@ def test_a_reorder_that_cannot_be_right_names_the_file(tmp_path, config, value, 
 def test_the_compute_axes_on_a_gpu_rt_row_are_refused(tmp_path):
     write_run_dir(tmp_path, {RT: TIMES})
     (path,) = tmp_path.glob("frames/*.csv")
-    _rewrite(path, names.GPU_PATH, "wavefront")
+    _rewrite(path, names.GPU_PATH, "megakernel")
     with pytest.raises(load.RunDataError, match=re.escape("applies to the gpu renderer only")):
         load.load_runs([tmp_path])
 

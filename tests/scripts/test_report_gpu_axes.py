@@ -2,7 +2,8 @@
 the accel column, the GPU section's table of gpu_ms medians and speedups over
 the default variant (numbers checked against ones computed here), Mrays/s
 from gpu_ms for the GPU renderer, its counters in the lane-occupancy section,
-the thesis' tables on the default variant; and no GPU section without variants."""
+the thesis' tables on the default variant, the runs of retired variants left
+out with a warning that says so; and no GPU section without variants."""
 
 from __future__ import annotations
 
@@ -16,22 +17,24 @@ from rtbench import report_writer
 
 GPU = {"renderer": "gpu", "threads": 0, "lanes": 0}
 SEQUENTIAL = SyntheticConfig(renderer="sequential", threads=1, lanes=1)
-BRUTE = SyntheticConfig(**GPU, gpu_schedule="pixel", gpu_path="megakernel")
+KEPT = {"gpu_schedule": "pixel", "gpu_path": "megakernel"}
+BRUTE = SyntheticConfig(**GPU, **KEPT)
+BVH = SyntheticConfig(**GPU, **KEPT, accel="bvh", gpu_bvh="binary")
+WIDE = SyntheticConfig(**GPU, **KEPT, accel="bvh", gpu_bvh="wide")
+# Only a grid run, no default beside it at its stage: no speedup over the default.
+LONE = SyntheticConfig(**GPU, **KEPT, stage="original", accel="bvh", gpu_bvh="grid")
+# Retired variants (schema: retired_gpu_variants), as the reference runs have them: left out.
 BRUTE_PERSISTENT = SyntheticConfig(**GPU, gpu_schedule="persistent", gpu_path="megakernel")
-BVH = SyntheticConfig(**GPU, accel="bvh", gpu_bvh="binary", gpu_schedule="pixel", gpu_path="megakernel")
-WIDE = SyntheticConfig(**GPU, accel="bvh", gpu_bvh="wide", gpu_schedule="persistent", gpu_path="wavefront")
-# Only a wavefront run, no default beside it at its stage: no speedup over the default.
-LONE = SyntheticConfig(
-    **GPU, stage="original", accel="bvh", gpu_bvh="binary", gpu_schedule="pixel", gpu_path="wavefront"
-)
+WIDE_WAVEFRONT = SyntheticConfig(**GPU, accel="bvh", gpu_bvh="wide", gpu_schedule="persistent", gpu_path="wavefront")
 WARMUP = 1
 # render_ms of one repetition (the first frame a warm-up frame) and gpu_ms of each frame.
 TIMES = {
     SEQUENTIAL: [[90.0, 60.0, 61.0, 62.0]],
     BRUTE: [[9.0, 5.0, 5.5, 6.0]],
-    BRUTE_PERSISTENT: [[9.0, 7.0, 7.5, 8.0]],
+    BRUTE_PERSISTENT: [[9.0, 7.0, 7.5, 8.0], [9.0, 7.0, 7.5, 8.0]],
     BVH: [[3.0, 2.0, 2.2, 2.4]],
     WIDE: [[3.0, 1.5, 1.6, 1.7]],
+    WIDE_WAVEFRONT: [[3.0, 1.4, 1.5, 1.6]],
     LONE: [[3.0, 1.8, 1.9, 2.0]],
 }
 GPU_MS = {
@@ -39,6 +42,7 @@ GPU_MS = {
     BRUTE_PERSISTENT: [1.0, 0.7, 0.8, 0.9],
     BVH: [1.0, 0.8, 0.9, 1.0],
     WIDE: [1.0, 0.4, 0.45, 0.5],
+    WIDE_WAVEFRONT: [1.0, 0.3, 0.35, 0.4],
     LONE: [1.0, 0.6, 0.7, 0.8],
 }
 # Counters of the GPU on the BVH, per subgroup: 32 slots per step of the busiest invocation.
@@ -76,35 +80,39 @@ def test_the_accel_column_names_the_variants_that_are_not_the_default(report):
     rows = table_rows((report / "tables/summary.md").read_text())
     gpu = sorted((r[0], r[3]) for r in rows if r[2] == "gpu")
     assert gpu == sorted(
-        [
-            ("optimized", "none"),
-            ("optimized", "none persistent"),
-            ("optimized", "bvh"),
-            ("optimized", "bvh wide persistent wavefront"),
-            ("original", "bvh wavefront"),
-        ]
+        [("optimized", "none"), ("optimized", "bvh"), ("optimized", "bvh wide"), ("original", "bvh grid")]
     )
     with (report / "data/summary.csv").open() as f:
         data = list(csv.DictReader(f))
     assert {(r["renderer"], r["accel"], r["gpu_bvh"], r["gpu_schedule"], r["gpu_path"]) for r in data} == {
         ("sequential", "none", "", "", ""),
         ("gpu", "none", "", "pixel", "megakernel"),
-        ("gpu", "none", "", "persistent", "megakernel"),
         ("gpu", "bvh", "binary", "pixel", "megakernel"),
-        ("gpu", "bvh", "wide", "persistent", "wavefront"),
-        ("gpu", "bvh", "binary", "pixel", "wavefront"),
+        ("gpu", "bvh", "wide", "pixel", "megakernel"),
+        ("gpu", "bvh", "grid", "pixel", "megakernel"),
     }
+
+
+def test_the_runs_of_retired_variants_are_left_out_with_a_warning(report):
+    readme = (report / "README.md").read_text()
+    warnings = readme.split("## Warnings\n", 1)[1].split("\n## ", 1)[0]
+    (line,) = [w for w in warnings.splitlines() if "retired" in w]
+    assert line.startswith("- 3 run(s) of 2 configuration(s) left out: they ran retired GPU variants ")
+    assert "(gpu_schedule persistent, gpu_path wavefront)" in line and "docs/experiments/gpu-traversal.md" in line
+    for name in ("persistent", "wavefront"):
+        assert name not in readme.replace(line, ""), f"{name} shows beyond the warning"
+        for table in (report / "tables").glob("*.md"):
+            assert name not in table.read_text(), table.name
 
 
 def test_the_gpu_section_gives_each_variants_gpu_ms_and_speedup_over_the_default(report):
     table = (report / "tables/gpu-variants.md").read_text()
-    rows = {tuple(r[:7]): r[7:] for r in table_rows(table)}
+    rows = {tuple(r[:5]): r[5:] for r in table_rows(table)}
     expected = {
-        ("optimized", "random20", "none", "96x72", "–", "pixel", "megakernel"): (BRUTE, BRUTE),
-        ("optimized", "random20", "none", "96x72", "–", "persistent", "megakernel"): (BRUTE_PERSISTENT, BRUTE),
-        ("optimized", "random20", "bvh", "96x72", "binary", "pixel", "megakernel"): (BVH, BVH),
-        ("optimized", "random20", "bvh", "96x72", "wide", "persistent", "wavefront"): (WIDE, BVH),
-        ("original", "random20", "bvh", "96x72", "binary", "pixel", "wavefront"): (LONE, None),
+        ("optimized", "random20", "none", "96x72", "–"): (BRUTE, BRUTE),
+        ("optimized", "random20", "bvh", "96x72", "binary"): (BVH, BVH),
+        ("optimized", "random20", "bvh", "96x72", "wide"): (WIDE, BVH),
+        ("original", "random20", "bvh", "96x72", "grid"): (LONE, None),
     }
     assert set(rows) == set(expected)
     for key, (config, default) in expected.items():
@@ -112,22 +120,22 @@ def test_the_gpu_section_gives_each_variants_gpu_ms_and_speedup_over_the_default
         assert n == "3" and ms == f"{median_gpu_ms(config):.3f}", key
         assert speedup == ("–" if default is None else f"{median_gpu_ms(default) / median_gpu_ms(config):.2f}"), key
     with (report / "data/gpu_variants.csv").open() as f:
-        data = {(r["accel"], r["gpu_bvh"], r["gpu_path"], r["stage"]): r for r in csv.DictReader(f)}
-    wide = data[("bvh", "wide", "wavefront", "optimized")]
+        data = {(r["accel"], r["gpu_bvh"], r["stage"]): r for r in csv.DictReader(f)}
+    wide = data[("bvh", "wide", "optimized")]
     assert float(wide["speedup_over_default"]) == pytest.approx(median_gpu_ms(BVH) / median_gpu_ms(WIDE), rel=1e-12)
     readme = (report / "README.md").read_text()
     section = readme.split("## GPU traversal variants\n", 1)[1].split("\n## ", 1)[0]
-    assert "gpu_ms" in section and len(table_rows(section)) == 5
+    assert "gpu_ms" in section and len(table_rows(section)) == 4
 
 
 def test_mrays_per_second_of_the_gpu_divides_by_gpu_ms(report):
     rows = {(r[2], r[3]): r for r in table_rows((report / "tables/summary.md").read_text())}
     rate = statistics.median(r / ms / 1000 for r, ms in zip(RAYS[WARMUP:], GPU_MS[BVH][WARMUP:]))
     assert rows[("gpu", "bvh")][-1] == f"{rate:.3g}"
-    assert rows[("gpu", "bvh wide persistent wavefront")][-1] == "–"
+    assert rows[("gpu", "bvh wide")][-1] == "–"
     with (report / "data/summary.csv").open() as f:
-        data = {(r["accel"], r["gpu_bvh"], r["gpu_path"]): r for r in csv.DictReader(f) if r["renderer"] == "gpu"}
-    counted = data[("bvh", "binary", "megakernel")]
+        data = {(r["accel"], r["gpu_bvh"]): r for r in csv.DictReader(f) if r["renderer"] == "gpu"}
+    counted = data[("bvh", "binary")]
     assert float(counted["mrays_per_s"]) == pytest.approx(rate, rel=1e-12) and counted["mrays_time"] == "gpu_ms"
     summary_notes = (report / "tables/summary.md").read_text()
     assert "For the gpu renderer Mrays/s divides by gpu_ms" in summary_notes
@@ -149,7 +157,7 @@ def test_the_gpu_counters_are_in_the_lane_occupancy_section(report):
 def test_the_thesis_tables_show_the_default_variant(report):
     (table,) = [p for p in (report / "tables").glob("table4-*.md")]
     (row,) = table_rows(table.read_text())
-    # gpu is the last column of table 4; 5.500 = BRUTE's median render_ms (the persistent one's is 7.500).
+    # gpu is the last column of table 4; 5.500 = BRUTE's median render_ms (the retired persistent one's is 7.500).
     assert row[0] == "random20" and row[-1] == "5.500"
 
 

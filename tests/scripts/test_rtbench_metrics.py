@@ -83,7 +83,7 @@ def _scaling_summary():
                 names.ACCEL: names.BRUTE_FORCE,
                 names.TRAVERSAL: "",
                 names.HYBRID_THRESHOLD: None,
-                **{axis: "" for axis in names.GPU_AXES},
+                **{axis: "" for axis in [*names.GPU_AXES, *names.RETIRED_GPU_AXES]},
                 names.RENDERER: "tbb_only",
                 names.LANES: 1,
                 names.SIMD_TARGET: "",

@@ -70,7 +70,7 @@ def _frames(values_by_rep, warmup_value=100.0):
                     names.ACCEL: "none",
                     names.TRAVERSAL: "",
                     names.HYBRID_THRESHOLD: None,
-                    **{axis: "" for axis in names.GPU_AXES},
+                    **{axis: "" for axis in [*names.GPU_AXES, *names.RETIRED_GPU_AXES]},
                     names.PRECISION: names.F32,
                     names.THREADS: 1,
                     names.LANES: 1,

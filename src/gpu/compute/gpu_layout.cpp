@@ -78,7 +78,7 @@ FrameConstants makeFrameConstants(const ShadingParams& shading, std::uint32_t sp
           .toLight = shading.toLight, .reflectivity = shading.reflectivity,
           .lightColor = shading.lightColor, .shininess = shading.shininess,
           .ambientColor = shading.ambientColor, .specularStrength = shading.specularStrength,
-          .background = shading.background, .wavefrontDepth = 0};
+          .background = shading.background};
   // clang-format on
 }
 

@@ -109,7 +109,7 @@ struct FrameConstants {
   RT_FRAME_CONSTANTS(RT_CPP_MEMBER)
 };
 #undef RT_CPP_MEMBER
-static_assert(sizeof(FrameConstants) == RT_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(FrameConstants) <= RT_PUSH_CONSTANT_BYTES);
 // Each member where the list (and so the shader) puts it.
 #define RT_CPP_OFFSET(type, name, at) static_assert(offsetof(FrameConstants, name) == (at), #name);
 RT_FRAME_CONSTANTS(RT_CPP_OFFSET)
@@ -120,13 +120,11 @@ struct SpecializationConstants {
   std::uint32_t twoPass;     // VkBool32
   std::uint32_t bounceExit;  // VkBool32
   std::int32_t maxDepth;
-  std::uint32_t useBvh = 0;        // VkBool32: --accel bvh
-  float bvhPadRadius = 0.0f;       // Bvh::pad, the traversal pad's model;
-  float bvhPadCoordinate = 0.0f;   // unused without the BVH
-  std::uint32_t wideBvh = 0;       // VkBool32: --gpu-bvh wide
-  std::int32_t wideStackSize = 1;  // entries the wide walk's stack needs
-  std::uint32_t persistent = 0;    // VkBool32: --gpu-schedule persistent
-  std::int32_t stage = RT_STAGE_MEGAKERNEL;
+  std::uint32_t useBvh = 0;                          // VkBool32: --accel bvh
+  float bvhPadRadius = 0.0f;                         // Bvh::pad, the traversal pad's model;
+  float bvhPadCoordinate = 0.0f;                     // unused without the BVH
+  std::uint32_t wideBvh = 0;                         // VkBool32: --gpu-bvh wide
+  std::int32_t wideStackSize = 1;                    // entries the wide walk's stack needs
   std::uint32_t counters = 0;                        // VkBool32: --counters
   std::int32_t bvhStackSize = RT_BVH_MAX_DEPTH + 2;  // entries the binary walk's stack needs
   std::uint32_t grid = 0;                            // VkBool32: --gpu-bvh grid
@@ -134,6 +132,7 @@ struct SpecializationConstants {
   float gridCellSize = 1.0f;
   std::int32_t gridCells[3] = {1, 1, 1};
   float bvhPadOriginSlope = 0.0f;   // Bvh::pad.originSlope
+  std::uint32_t loopGuard = 0;      // VkBool32: lavapipe (shaders/loop_guard.glsl)
   std::int32_t gridApartCount = 0;  // rt::SphereGrid::apartCount
 };
 

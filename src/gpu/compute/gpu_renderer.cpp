@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "core/profiler.h"
@@ -28,8 +32,14 @@ namespace {
 using PipelineStage = vk::PipelineStageFlagBits;
 using Access = vk::AccessFlagBits;
 
+// Lavapipe's loop limit (render model section 8): every frame there finds
+// out whether the limit cut a loop short (shaders/loop_guard.glsl); brute
+// force is also refused beforehand where it would pass the limit
+// (refuseLoopsPastLavapipeLimit below).
+bool guardsLoops(const Device& device) { return device.info().driverName == "llvmpipe"; }
+
 SpecializationConstants specializationFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh,
-                                          const WideBvh* wide, const SphereGrid* grid) {
+                                          const WideBvh* wide, const SphereGrid* grid, bool loopGuard) {
   SpecializationConstants constants{.twoPass = options.algorithm == Algorithm::two_pass ? VK_TRUE : VK_FALSE,
                                     .bounceExit = options.earlyExits.has(EarlyExit::bounce) ? VK_TRUE : VK_FALSE,
                                     .maxDepth = scene.render.maxDepth};
@@ -56,52 +66,9 @@ SpecializationConstants specializationFor(const Scene& scene, const RenderOption
     constants.gridCellSize = grid->cellSize;
     constants.gridApartCount = static_cast<std::int32_t>(grid->apartCount);
   }
-  constants.persistent = options.gpuSchedule == GpuSchedule::persistent ? VK_TRUE : VK_FALSE;
   constants.counters = options.counters ? VK_TRUE : VK_FALSE;
+  constants.loopGuard = loopGuard ? VK_TRUE : VK_FALSE;
   return constants;
-}
-
-std::vector<RaytraceStage> stagesOf(GpuPath path) {
-  if (path == GpuPath::wavefront) return {RaytraceStage::wavefrontDepth, RaytraceStage::wavefrontResolve};
-  return {RaytraceStage::megakernel};
-}
-
-// Rays of a frame as the shader numbers them: whole 8x8 tiles.
-std::uint32_t rayCount(Extent extent) {
-  return workgroupCount(extent.width, RT_TILE_SIZE) * workgroupCount(extent.height, RT_TILE_SIZE) * RT_TILE_RAYS;
-}
-
-// Rows of RT_WAVEFRONT_GROUPS_X workgroups that cover `rays` queued rays.
-std::uint32_t wavefrontRows(std::uint32_t rays) {
-  constexpr std::uint32_t kRaysPerRow = RT_WAVEFRONT_GROUPS_X * RT_TILE_RAYS;
-  return (rays + kRaysPerRow - 1) / kRaysPerRow;
-}
-
-// The persistent threads' fetch counters and the wavefront's per-depth
-// queue counts and dispatch sizes as every frame starts (gpu_interface.h):
-// depth 0 holds every ray, the others none yet.
-std::vector<std::uint32_t> initialControl(int maxDepth, Extent extent) {
-  std::vector<std::uint32_t> words(static_cast<std::size_t>(maxDepth + 1) * RT_CONTROL_WORDS, 0u);
-  for (int depth = 0; depth <= maxDepth; ++depth) {
-    std::uint32_t* control = words.data() + static_cast<std::size_t>(depth) * RT_CONTROL_WORDS;
-    control[0] = RT_WAVEFRONT_GROUPS_X;
-    control[2] = 1;
-  }
-  words[RT_CONTROL_GROUPS_Y] = wavefrontRows(rayCount(extent));
-  words[RT_CONTROL_COUNT] = rayCount(extent);
-  return words;
-}
-
-// What a buffer of `bytes` the shader binds needs of the device: refused
-// with the figure where it passes maxStorageBufferRange.
-vk::DeviceSize checkedStorageSize(const Device& device, vk::DeviceSize bytes, const char* what) {
-  const vk::DeviceSize limit = device.physical().getProperties().limits.maxStorageBufferRange;
-  if (bytes > limit) {
-    throw RendererUnavailable("the GPU renderer's " + std::string(what) + " would take " + std::to_string(bytes) +
-                              " bytes, more than this device's maxStorageBufferRange (" + std::to_string(limit) +
-                              "): choose a smaller image (or a smaller maxDepth)");
-  }
-  return bytes;
 }
 
 // Lavapipe's shader compiler (gallivm) ends an invocation's loops after
@@ -110,19 +77,13 @@ vk::DeviceSize checkedStorageSize(const Device& device, vk::DeviceSize bytes, co
 // measured at 20,000 spheres: maxDepth 3 exact, maxDepth 4 not). Brute
 // force loops over every sphere at every bounce, so a frame whose
 // invocations would need more is refused there; a BVH walk needs a few
-// dozen iterations per ray. An estimate per invocation: the rays it may
-// trace (persistent threads take up to twice their fair share), each with
-// its bounces over the spheres, and the two-pass backward loop.
-constexpr std::uint64_t kLavapipeLoopIterations = 65535;
+// dozen iterations per ray. An estimate per invocation, which traces its
+// pixel's path: its bounces over the spheres, and the two-pass backward loop.
+constexpr std::uint64_t kLavapipeLoopIterations = RT_LAVAPIPE_LOOP_ITERATIONS;
 
-std::uint64_t bruteForceLoopIterations(std::size_t spheres, int maxDepth, Extent extent, const RenderOptions& options) {
-  const std::uint64_t invocations = std::uint64_t{RT_PERSISTENT_WORKGROUPS} * RT_TILE_RAYS;
-  const std::uint64_t rays = rayCount(extent);
-  const std::uint64_t raysEach =
-      options.gpuSchedule == GpuSchedule::persistent ? 2 * ((rays + invocations - 1) / invocations) : 1;
+std::uint64_t bruteForceLoopIterations(std::size_t spheres, int maxDepth) {
   const auto depth = static_cast<std::uint64_t>(maxDepth);
-  const std::uint64_t bounces = options.gpuPath == GpuPath::wavefront ? 1 : depth;
-  return raysEach * (bounces * (spheres + 2) + depth);
+  return depth * (spheres + 2) + depth;
 }
 
 // The f16 SPIR-V declares the Float16 capability, which a device may run
@@ -134,46 +95,32 @@ void requireHalfPrecision(const Device& device, const RenderOptions& options) {
       "opened with shaderFloat16 (gpu::ContextOptions::shaderFloat16); this one was not");
 }
 
-void refuseLoopsPastLavapipeLimit(const Device& device, const Scene& scene, Extent extent,
-                                  const RenderOptions& options) {
+void refuseLoopsPastLavapipeLimit(const Device& device, const Scene& scene, const RenderOptions& options) {
   if (options.accel != Accel::none || device.info().driverName != "llvmpipe") return;
-  const std::uint64_t needed = bruteForceLoopIterations(scene.spheres.size(), scene.render.maxDepth, extent, options);
+  const std::uint64_t needed = bruteForceLoopIterations(scene.spheres.size(), scene.render.maxDepth);
   if (needed <= kLavapipeLoopIterations) return;
   throw RendererUnavailable("lavapipe ends a shader invocation's loops after " +
                             std::to_string(kLavapipeLoopIterations) + " iterations, and brute force over " +
                             std::to_string(scene.spheres.size()) + " spheres (maxDepth " +
                             std::to_string(scene.render.maxDepth) + ") would need about " + std::to_string(needed) +
-                            ": its image would be cut short; use --accel bvh" +
-                            (options.gpuSchedule == GpuSchedule::persistent ? " or --gpu-schedule pixel" : ""));
+                            ": its image would be cut short; use --accel bvh");
 }
 
-// Subgroup operations the shader's variants use: persistent threads
-// (elect, broadcast), the wavefront's queues (ballot) and the counters
-// (arithmetic), all in the compute stage.
+// Subgroup operations the counters use (elect, arithmetic: nearest_hit.glsl's
+// reductions), in the compute stage.
 void requireSubgroupOperations(const Device& device, const RenderOptions& options) {
-  if (options.gpuSchedule == GpuSchedule::pixel && options.gpuPath == GpuPath::megakernel && !options.counters) return;
+  if (!options.counters) return;
   const auto chain =
       device.physical().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
   const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
-  const vk::SubgroupFeatureFlags needed = vk::SubgroupFeatureFlagBits::eBasic | vk::SubgroupFeatureFlagBits::eBallot |
-                                          vk::SubgroupFeatureFlagBits::eArithmetic;
+  const vk::SubgroupFeatureFlags needed =
+      vk::SubgroupFeatureFlagBits::eBasic | vk::SubgroupFeatureFlagBits::eArithmetic;
   if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
       (subgroup.supportedOperations & needed) != needed) {
     throw RendererUnavailable(
-        "this Vulkan device offers no basic, ballot and arithmetic subgroup operations in compute shaders, which "
-        "--gpu-schedule persistent, --gpu-path wavefront and --counters need");
+        "this Vulkan device offers no basic and arithmetic subgroup operations in compute shaders, which "
+        "--counters needs");
   }
-}
-
-// A memory barrier between two dispatches of a wavefront frame: the first
-// one's queue, state and control writes are seen by the next one's shader
-// and by its indirect dispatch size.
-void dispatchBarrier(const vk::raii::CommandBuffer& cb) {
-  const vk::MemoryBarrier barrier{
-      .srcAccessMask = Access::eShaderWrite,
-      .dstAccessMask = Access::eShaderRead | Access::eShaderWrite | Access::eIndirectCommandRead};
-  cb.pipelineBarrier(PipelineStage::eComputeShader, PipelineStage::eComputeShader | PipelineStage::eDrawIndirect, {},
-                     barrier, {}, {});
 }
 
 // `data` in a new device-local storage buffer, through a staging buffer:
@@ -248,6 +195,33 @@ std::optional<SphereGrid> gridFor(const Scene& scene, const RenderOptions& optio
   return buildSphereGrid(scene.spheres, sphereGridMargins(scene.spheres, origins));
 }
 
+// Lavapipe's guard words (shaders/loop_guard.glsl): host-visible, zeroed
+// once; a raised word fails the frame, so it is never reset.
+struct LoopGuardBuffer {
+  static constexpr std::size_t kWords = 2;  // the raised word, and the guard loop's extra bound (0)
+
+  explicit LoopGuardBuffer(const Device& device)
+      : words(device, kWords * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, MemoryUse::readback) {
+    std::memset(words.mapped().data(), 0, kWords * sizeof(std::uint32_t));
+    words.flushHostWrites();
+  }
+  Buffer words;
+
+  // Throws RendererUnavailable once the shader raised the word.
+  void refuseACutShortFrame(const RenderOptions& options) const {
+    words.invalidateForHost();
+    std::uint32_t raised = 0;
+    std::memcpy(&raised, words.mapped().data(), sizeof raised);
+    if (raised == 0) return;
+    const std::string variant =
+        options.accel == Accel::bvh ? "walk (--gpu-bvh " + std::string(nameOf(options.gpuBvh)) + ")" : "brute force";
+    throw RendererUnavailable("lavapipe ends a shader invocation's loops after " +
+                              std::to_string(RT_LAVAPIPE_LOOP_ITERATIONS) + " iterations, and this frame's " + variant +
+                              " reached that limit: its image was cut short; try another --gpu-bvh, a "
+                              "CPU renderer, or a GPU device");
+  }
+};
+
 constexpr vk::DeviceSize kCounterBytes =
     vk::DeviceSize{RT_COUNTER_COPIES} * RT_COUNTER_SLOTS * 2 * sizeof(std::uint32_t);
 
@@ -290,36 +264,44 @@ struct CounterBuffers {
 };
 static_assert(RT_COUNTER_NODE_VISITS == kCountedDepths, "the counter slots after the depths");
 
-Buffer deviceStorage(const Device& device, vk::DeviceSize bytes, const char* what,
-                     vk::BufferUsageFlags extraUsage = {}) {
-  return Buffer(device, checkedStorageSize(device, bytes, what), vk::BufferUsageFlagBits::eStorageBuffer | extraUsage,
-                MemoryUse::deviceLocal);
+// --gpu-bvh auto (render model section 3, "Choosing the GPU walk"): the
+// walks it measures, each a whole variant; brute force joins them under
+// --accel auto where the binary tree's estimated tests per ray are not
+// under kProbeBruteForceShare of the sphere count (below that, brute force
+// was never the faster on any device measured, and on lavapipe its probe
+// alone would take seconds).
+constexpr std::array kProbedWalks{GpuBvh::binary, GpuBvh::wide, GpuBvh::grid};
+constexpr double kProbeBruteForceShare = 0.1;
+constexpr int kProbeWarmUpFrames = 1;
+constexpr int kProbeMeasuredFrames = 3;
+constexpr std::uint64_t kProbeMaxPixels = std::uint64_t{1} << 19;
+
+RenderOptions walkCandidate(const RenderOptions& options, Accel accel, GpuBvh walk) {
+  RenderOptions candidate = options;
+  candidate.accel = accel;
+  candidate.gpuBvh = walk;
+  return candidate;
 }
 
-// The fetch counters of persistent threads and, for wavefronts, the ray
-// queues, the paths' state and the two-pass segments.
-struct ScheduleBuffers {
-  ScheduleBuffers(const Device& device, const Scene& scene, Extent extent, const RenderOptions& options)
-      : control(deviceStorage(device, initialControl(scene.render.maxDepth, extent).size() * sizeof(std::uint32_t),
-                              "control",
-                              vk::BufferUsageFlagBits::eIndirectBuffer | vk::BufferUsageFlagBits::eTransferDst)) {
-    if (options.gpuPath != GpuPath::wavefront) return;
-    constexpr vk::DeviceSize kRayBytes = 32;  // QueuedRay, PathState and StoredSegment alike
-    const vk::DeviceSize rays = rayCount(extent);
-    queueEven.emplace(deviceStorage(device, rays * kRayBytes, "ray queue"));
-    queueOdd.emplace(deviceStorage(device, rays * kRayBytes, "ray queue"));
-    pathStates.emplace(deviceStorage(device, rays * kRayBytes, "path states"));
-    if (options.algorithm == Algorithm::two_pass) {
-      segments.emplace(deviceStorage(device, rays * kRayBytes * static_cast<vk::DeviceSize>(scene.render.maxDepth),
-                                     "two-pass segments"));
-    }
-  }
-  Buffer control;
-  std::optional<Buffer> queueEven, queueOdd, pathStates, segments;
-};
+bool probesBruteForce(const RenderOptions& options, const Bvh* binaryTree, std::size_t spheres) {
+  return options.accel == Accel::auto_ &&
+         (!binaryTree || binaryTree->price >= kProbeBruteForceShare * static_cast<double>(spheres));
+}
 
-bool usesScheduleBuffers(const RenderOptions& options) {
-  return options.gpuSchedule == GpuSchedule::persistent || options.gpuPath == GpuPath::wavefront;
+// The probe's frames: the run's size, halved while it has more pixels than
+// kProbeMaxPixels (enough rays to fill a large GPU, few enough for lavapipe).
+Extent probeExtentFor(Extent extent) {
+  const auto pixels = [](Extent e) {
+    return static_cast<std::uint64_t>(e.width) * static_cast<std::uint64_t>(e.height);
+  };
+  while (pixels(extent) > kProbeMaxPixels && extent.width > 1 && extent.height > 1) {
+    extent = {.width = extent.width / 2, .height = extent.height / 2};
+  }
+  return extent;
+}
+
+std::string candidateName(const RenderOptions& candidate) {
+  return std::string(candidate.accel == Accel::none ? nameOf(Accel::none) : nameOf(candidate.gpuBvh));
 }
 
 }  // namespace
@@ -337,16 +319,16 @@ struct GPURenderer::SceneObjects {
         accel(std::move(a)),
         wide(wideBvhFor(s, o, accel.bvh())),
         grid(gridFor(s, o, accel.bvh())),
-        pipeline(d, o.precision, specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr, grid ? &*grid : nullptr),
-                 stagesOf(o.gpuPath)),
+        pipeline(
+            d, o.precision,
+            specializationFor(s, o, accel.bvh(), wide ? &*wide : nullptr, grid ? &*grid : nullptr, guardsLoops(d))),
         spheres(uploadStorage(d, runner, std::span<const GPUSphere>(toGpuSpheres(s.spheres)))),
         bvhBuffers(accel.bvh() ? std::make_optional<BvhBuffers>(d, runner, *accel.bvh(), s, wide ? &*wide : nullptr,
                                                                 grid ? &*grid : nullptr)
                                : std::nullopt),
         wideBuffers(wide ? std::make_optional<WideBvhBuffers>(d, runner, *wide) : std::nullopt),
         counterBuffers(o.counters ? std::make_optional<CounterBuffers>(d) : std::nullopt),
-        scheduleBuffers(usesScheduleBuffers(o) ? std::make_optional<ScheduleBuffers>(d, s, e, o) : std::nullopt),
-        initialControlWords(initialControl(s.render.maxDepth, e)),
+        loopGuard(guardsLoops(d) ? std::make_optional<LoopGuardBuffer>(d) : std::nullopt),
         output(d, runner, e, mode, PipelineStage::eComputeShader),
         bindings(d, pipeline, sceneBuffers(), output.image()) {}
 
@@ -361,9 +343,8 @@ struct GPURenderer::SceneObjects {
   Buffer spheres;
   std::optional<BvhBuffers> bvhBuffers;  // --accel bvh only
   std::optional<WideBvhBuffers> wideBuffers;
-  std::optional<CounterBuffers> counterBuffers;    // --counters only
-  std::optional<ScheduleBuffers> scheduleBuffers;  // persistent threads or wavefronts only
-  std::vector<std::uint32_t> initialControlWords;  // what the control buffer holds as a frame starts
+  std::optional<CounterBuffers> counterBuffers;  // --counters only
+  std::optional<LoopGuardBuffer> loopGuard;      // lavapipe only
   ShaderOutput output;
   RaytraceBindings bindings;
 
@@ -383,71 +364,26 @@ struct GPURenderer::SceneObjects {
       buffers.wideIndex = wideBuffers->index.handle();
     }
     if (counterBuffers) buffers.counters = counterBuffers->counters.handle();
-    if (scheduleBuffers) {
-      const ScheduleBuffers& b = *scheduleBuffers;
-      buffers.control = b.control.handle();
-      const auto handleOr = [&](const std::optional<Buffer>& buffer) {
-        return buffer ? buffer->handle() : spheres.handle();
-      };
-      buffers.queueEven = handleOr(b.queueEven);
-      buffers.queueOdd = handleOr(b.queueOdd);
-      buffers.pathStates = handleOr(b.pathStates);
-      buffers.segments = handleOr(b.segments);
-    }
+    if (loopGuard) buffers.loopGuard = loopGuard->words.handle();
     return buffers;
   }
 
-  // Before the timed dispatches: zero the counters, reset the fetch
-  // counters and queue sizes; the dispatches see those writes.
+  // Before the timed dispatch: zero the counters; the dispatch sees that write.
   void recordFrameReset(const vk::raii::CommandBuffer& cb) const {
-    if (counterBuffers) {
-      cb.fillBuffer(counterBuffers->counters.handle(), 0, VK_WHOLE_SIZE, 0u);
-      bufferBarrier(cb, counterBuffers->counters.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
-                    PipelineStage::eComputeShader, Access::eShaderRead | Access::eShaderWrite);
-    }
-    if (scheduleBuffers) {
-      cb.updateBuffer<std::uint32_t>(scheduleBuffers->control.handle(), 0, initialControlWords);
-      bufferBarrier(cb, scheduleBuffers->control.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
-                    PipelineStage::eComputeShader | PipelineStage::eDrawIndirect,
-                    Access::eShaderRead | Access::eShaderWrite | Access::eIndirectCommandRead);
-    }
+    if (!counterBuffers) return;
+    cb.fillBuffer(counterBuffers->counters.handle(), 0, VK_WHOLE_SIZE, 0u);
+    bufferBarrier(cb, counterBuffers->counters.handle(), PipelineStage::eTransfer, Access::eTransferWrite,
+                  PipelineStage::eComputeShader, Access::eShaderRead | Access::eShaderWrite);
   }
 
-  // The frame's dispatches: the megakernel's one, or a wavefront's one per
-  // bounce depth and its resolve. Persistent threads launch a fixed grid.
-  void recordDispatches(const vk::raii::CommandBuffer& cb, vk::DescriptorSet set,
-                        const FrameConstants& constants) const {
-    const std::uint32_t tilesAcross = workgroupCount(extent.width, RT_WORKGROUP_SIZE_X);
-    const std::uint32_t tilesDown = workgroupCount(extent.height, RT_WORKGROUP_SIZE_Y);
-    const bool persistent = options.gpuSchedule == GpuSchedule::persistent;
-    if (options.gpuPath == GpuPath::megakernel) {
-      pipeline.recordBind(cb, RaytraceStage::megakernel, set, constants);
-      if (persistent) {
-        cb.dispatch(RT_PERSISTENT_WORKGROUPS, 1, 1);
-      } else {
-        cb.dispatch(tilesAcross, tilesDown, 1);
-      }
-      return;
-    }
-    pipeline.recordBind(cb, RaytraceStage::wavefrontDepth, set, constants);
-    for (int depth = 0; depth < scene.render.maxDepth; ++depth) {
-      if (depth > 0) dispatchBarrier(cb);
-      pipeline.recordWavefrontDepth(cb, depth);
-      if (persistent) {
-        cb.dispatch(RT_PERSISTENT_WORKGROUPS, 1, 1);
-      } else if (depth == 0) {
-        cb.dispatch(RT_WAVEFRONT_GROUPS_X, wavefrontRows(rayCount(extent)), 1);
-      } else {
-        cb.dispatchIndirect(scheduleBuffers->control.handle(),
-                            static_cast<vk::DeviceSize>(depth) * RT_CONTROL_WORDS * sizeof(std::uint32_t));
-      }
-    }
-    dispatchBarrier(cb);
-    pipeline.recordBind(cb, RaytraceStage::wavefrontResolve, set, constants);
-    cb.dispatch(tilesAcross, tilesDown, 1);
+  // The frame's one dispatch: an invocation per pixel, in whole workgroups.
+  void recordDispatch(const vk::raii::CommandBuffer& cb, vk::DescriptorSet set, const FrameConstants& constants) const {
+    pipeline.recordBind(cb, set, constants);
+    cb.dispatch(workgroupCount(extent.width, RT_WORKGROUP_SIZE_X), workgroupCount(extent.height, RT_WORKGROUP_SIZE_Y),
+                1);
   }
 
-  // After the timed dispatches: the counters copied out for the host.
+  // After the timed dispatch: the counters copied out for the host.
   void recordCounterReadback(const vk::raii::CommandBuffer& cb) const {
     if (!counterBuffers) return;
     bufferBarrier(cb, counterBuffers->counters.handle(), PipelineStage::eComputeShader, Access::eShaderWrite,
@@ -494,8 +430,11 @@ RendererInfo GPURenderer::info() const {
     info.accelStructure->spheresKeptApart = grid.apartCount;
   }
   if (scene_->accel.bvh()) info.gpuBvh = scene_->options.gpuBvh;
-  info.gpuSchedule = scene_->options.gpuSchedule;
-  info.gpuPath = scene_->options.gpuPath;
+  info.gpuWalkProbe = walkProbe_;
+  // The axes' one remaining values (schema retired_gpu_variants), which
+  // the CSV and the metadata still record.
+  info.gpuSchedule = GpuSchedule::pixel;
+  info.gpuPath = GpuPath::megakernel;
   info.precision = scene_->options.precision;
   return info;
 }
@@ -506,17 +445,81 @@ void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions
   scene_.reset();  // the old objects go before new ones take their memory
   gpuMs_.reset();
   counters_.reset();
+  walkProbe_.reset();
   requireSubgroupOperations(context_->device(), options);
   requireHalfPrecision(context_->device(), options);
-  // --accel auto is settled here: what follows sees none or bvh.
-  AccelStructure accel = accelFor(scene, options);
+  scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
+    return options.gpuBvh == GpuBvh::auto_ ? prepareFastestWalk(scene, extent, options)
+                                           : prepareVariant(scene, extent, options, accelFor(scene, options));
+  });
+}
+
+// One variant's objects; --accel auto is settled here (by the tree's
+// price), so what follows sees none or bvh.
+std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareVariant(const Scene& scene, Extent extent,
+                                                                       const RenderOptions& options,
+                                                                       AccelStructure accel) {
   RenderOptions resolved = options;
   resolved.accel = accel.bvh() ? Accel::bvh : Accel::none;
-  refuseLoopsPastLavapipeLimit(context_->device(), scene, extent, resolved);
-  scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
-    return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, resolved,
-                                          std::move(accel), presentMode_);
-  });
+  refuseLoopsPastLavapipeLimit(context_->device(), scene, resolved);
+  return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, resolved,
+                                        std::move(accel), presentMode_);
+}
+
+// --gpu-bvh auto: renders frame 0 with each candidate at the probe's size
+// and keeps the one with the least gpu_ms (walkProbe_ records them all).
+// A candidate this device refuses (brute force past lavapipe's loop limit)
+// or whose probe frame passes lavapipe's loop limit is left out.
+std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareFastestWalk(const Scene& scene, Extent extent,
+                                                                           const RenderOptions& options) {
+  const Extent probeExtent = probeExtentFor(extent);
+  const CameraFrame camera = cameraAtFrame(scene.camera, 0);
+  std::vector<RenderOptions> candidates;
+  for (GpuBvh walk : kProbedWalks) candidates.push_back(walkCandidate(options, Accel::bvh, walk));
+  GpuWalkProbe probe{.extent = probeExtent, .gpuMs = {}};
+  std::unique_ptr<SceneObjects> best;
+  double bestMs = 0.0;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    std::unique_ptr<SceneObjects> objects;
+    try {
+      refuseLoopsPastLavapipeLimit(context_->device(), scene, candidates[i]);
+      objects = prepareVariant(scene, probeExtent, candidates[i], accelFor(scene, candidates[i]));
+    } catch (const RendererUnavailable&) {
+      continue;
+    }
+    if (i == 0 && probesBruteForce(options, objects->accel.bvh(), scene.spheres.size())) {
+      candidates.push_back(walkCandidate(options, Accel::none, GpuBvh::binary));
+    }
+    double ms = 0.0;
+    try {
+      ms = probeGpuMs(*objects, camera);
+    } catch (const RendererUnavailable&) {
+      continue;  // its walk passes lavapipe's loop limit
+    }
+    probe.gpuMs.emplace_back(candidateName(candidates[i]), ms);
+    if (!best || ms < bestMs) std::tie(best, bestMs) = std::pair(std::move(objects), ms);
+  }
+  if (!best) throw RendererUnavailable("--gpu-bvh auto: this device refused every walk it could choose");
+  walkProbe_ = std::move(probe);
+  if (probeExtent.width == extent.width && probeExtent.height == extent.height) return best;
+  const RenderOptions chosen = best->options;
+  AccelStructure accel = std::move(best->accel);
+  best.reset();
+  return prepareVariant(scene, extent, chosen, std::move(accel));
+}
+
+// The least gpu_ms of the probe's measured frames, after its warm-up (the
+// host's wall time of the frame on a queue without timestamps).
+double GPURenderer::probeGpuMs(SceneObjects& objects, const CameraFrame& camera) {
+  for (int frame = 0; frame < kProbeWarmUpFrames; ++frame) renderWith(objects, camera);
+  double least = std::numeric_limits<double>::infinity();
+  for (int frame = 0; frame < kProbeMeasuredFrames; ++frame) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::optional<double> gpuMs = renderWith(objects, camera);
+    const std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - start;
+    least = std::min(least, gpuMs.value_or(wall.count()));
+  }
+  return least;
 }
 
 GPURenderer::SceneObjects& GPURenderer::prepared() {
@@ -524,20 +527,28 @@ GPURenderer::SceneObjects& GPURenderer::prepared() {
   return *scene_;
 }
 
-void GPURenderer::render(const CameraFrame& camera) {
-  SceneObjects& s = prepared();
+// One frame of `s`'s variant: its dispatches between GPU timestamps. On
+// lavapipe a frame that its loop limit cut short throws.
+std::optional<double> GPURenderer::renderWith(SceneObjects& s, const CameraFrame& camera) {
   const FrameConstants constants =
       makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
   using CommandBuffer = vk::raii::CommandBuffer;
+  const std::optional<double> gpuMs = frames_->renderFrame(
+      "raytrace dispatch",
+      [&](const CommandBuffer& cb) {
+        s.recordFrameReset(cb);
+        s.output.recordBeforeShaderWrites(cb);
+      },
+      [&](const CommandBuffer& cb) { s.recordDispatch(cb, s.bindings.set(), constants); },
+      [&](const CommandBuffer& cb) { s.recordCounterReadback(cb); });
+  if (s.loopGuard) s.loopGuard->refuseACutShortFrame(s.options);
+  return gpuMs;
+}
+
+void GPURenderer::render(const CameraFrame& camera) {
+  SceneObjects& s = prepared();
   translateVulkanErrors("render", [&] {
-    gpuMs_ = frames_->renderFrame(
-        "raytrace dispatch",
-        [&](const CommandBuffer& cb) {
-          s.recordFrameReset(cb);
-          s.output.recordBeforeShaderWrites(cb);
-        },
-        [&](const CommandBuffer& cb) { s.recordDispatches(cb, s.bindings.set(), constants); },
-        [&](const CommandBuffer& cb) { s.recordCounterReadback(cb); });
+    gpuMs_ = renderWith(s, camera);
     if (s.counterBuffers) counters_ = s.counterBuffers->read();
   });
 }

@@ -4,6 +4,10 @@
 
 #include "render/renderer.h"
 
+namespace rt {
+class AccelStructure;
+}
+
 namespace rt::gpu {
 
 class Context;
@@ -43,6 +47,11 @@ class GPURenderer final : public Renderer {
  private:
   struct SceneObjects;
   SceneObjects& prepared();  // throws std::logic_error before prepare()
+  std::unique_ptr<SceneObjects> prepareVariant(const Scene& scene, Extent extent, const RenderOptions& options,
+                                               AccelStructure accel);
+  std::unique_ptr<SceneObjects> prepareFastestWalk(const Scene& scene, Extent extent, const RenderOptions& options);
+  double probeGpuMs(SceneObjects& objects, const CameraFrame& camera);
+  std::optional<double> renderWith(SceneObjects& s, const CameraFrame& camera);
 
   std::shared_ptr<Context> context_;  // declared first, so destroyed last
   PresentMode presentMode_;
@@ -51,6 +60,7 @@ class GPURenderer final : public Renderer {
   std::unique_ptr<SceneObjects> scene_;
   std::optional<double> gpuMs_;
   std::optional<LaneCounters> counters_;
+  std::optional<GpuWalkProbe> walkProbe_;  // --gpu-bvh auto only
 };
 
 }  // namespace rt::gpu

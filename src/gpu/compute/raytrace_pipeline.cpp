@@ -11,10 +11,9 @@ namespace rt::gpu {
 namespace {
 
 // Every binding but the output image is a storage buffer, in SceneBuffers' order.
-constexpr std::array<std::uint32_t, 13> kStorageBufferSlots{
-    RT_BINDING_SPHERES,  RT_BINDING_BVH_NODES,    RT_BINDING_BVH_ORDER, RT_BINDING_WIDE_NODES, RT_BINDING_WIDE_INDEX,
-    RT_BINDING_COUNTERS, RT_BINDING_QUEUE_EVEN,   RT_BINDING_QUEUE_ODD, RT_BINDING_PATH_STATE, RT_BINDING_SEGMENTS,
-    RT_BINDING_CONTROL,  RT_BINDING_LEAF_SPHERES, RT_BINDING_GRID_CELLS};
+constexpr std::array<std::uint32_t, 9> kStorageBufferSlots{
+    RT_BINDING_SPHERES,  RT_BINDING_BVH_NODES,    RT_BINDING_BVH_ORDER,  RT_BINDING_WIDE_NODES, RT_BINDING_WIDE_INDEX,
+    RT_BINDING_COUNTERS, RT_BINDING_LEAF_SPHERES, RT_BINDING_GRID_CELLS, RT_BINDING_LOOP_GUARD};
 constexpr std::uint32_t kStorageBufferBindings = kStorageBufferSlots.size();
 static_assert(sizeof(SceneBuffers) == kStorageBufferBindings * sizeof(vk::Buffer));
 
@@ -37,7 +36,7 @@ constexpr auto kBindings = bindings();
 constexpr vk::PushConstantRange kPushConstants{
     .stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = sizeof(FrameConstants)};
 
-constexpr std::array<vk::SpecializationMapEntry, 22> kSpecializationEntries{{
+constexpr std::array<vk::SpecializationMapEntry, 21> kSpecializationEntries{{
     {RT_SPEC_TWO_PASS, offsetof(SpecializationConstants, twoPass), sizeof(std::uint32_t)},
     {RT_SPEC_BOUNCE_EXIT, offsetof(SpecializationConstants, bounceExit), sizeof(std::uint32_t)},
     {RT_SPEC_MAX_DEPTH, offsetof(SpecializationConstants, maxDepth), sizeof(std::int32_t)},
@@ -47,8 +46,6 @@ constexpr std::array<vk::SpecializationMapEntry, 22> kSpecializationEntries{{
     {RT_SPEC_BVH_PAD_ORIGIN_SLOPE, offsetof(SpecializationConstants, bvhPadOriginSlope), sizeof(float)},
     {RT_SPEC_WIDE_BVH, offsetof(SpecializationConstants, wideBvh), sizeof(std::uint32_t)},
     {RT_SPEC_WIDE_STACK_SIZE, offsetof(SpecializationConstants, wideStackSize), sizeof(std::int32_t)},
-    {RT_SPEC_PERSISTENT, offsetof(SpecializationConstants, persistent), sizeof(std::uint32_t)},
-    {RT_SPEC_STAGE, offsetof(SpecializationConstants, stage), sizeof(std::int32_t)},
     {RT_SPEC_COUNTERS, offsetof(SpecializationConstants, counters), sizeof(std::uint32_t)},
     {RT_SPEC_BVH_STACK_SIZE, offsetof(SpecializationConstants, bvhStackSize), sizeof(std::int32_t)},
     {RT_SPEC_GRID, offsetof(SpecializationConstants, grid), sizeof(std::uint32_t)},
@@ -60,6 +57,7 @@ constexpr std::array<vk::SpecializationMapEntry, 22> kSpecializationEntries{{
     {RT_SPEC_GRID_CELLS_Y, offsetof(SpecializationConstants, gridCells) + sizeof(std::int32_t), sizeof(std::int32_t)},
     {RT_SPEC_GRID_CELLS_Z, offsetof(SpecializationConstants, gridCells) + 2 * sizeof(std::int32_t),
      sizeof(std::int32_t)},
+    {RT_SPEC_LOOP_GUARD, offsetof(SpecializationConstants, loopGuard), sizeof(std::uint32_t)},
     {RT_SPEC_GRID_APART_COUNT, offsetof(SpecializationConstants, gridApartCount), sizeof(std::int32_t)},
 }};
 
@@ -79,14 +77,16 @@ vk::raii::PipelineLayout createPipelineLayout(const Device& device, const vk::ra
 }
 
 vk::raii::Pipeline createPipeline(const Device& device, const vk::raii::PipelineLayout& layout,
-                                  const vk::raii::ShaderModule& module, const SpecializationConstants& constants) {
+                                  std::span<const std::uint32_t> code, const SpecializationConstants& constants) {
+  // Only needed while the pipeline is built.
+  const vk::raii::ShaderModule module(device.logical(),
+                                      vk::ShaderModuleCreateInfo{.codeSize = code.size_bytes(), .pCode = code.data()});
   const vk::SpecializationInfo specialization{.mapEntryCount = kSpecializationEntries.size(),
                                               .pMapEntries = kSpecializationEntries.data(),
                                               .dataSize = sizeof constants,
                                               .pData = &constants};
   // The shader's storage-buffer accesses stay in bounds by construction
-  // (node and slot numbers come from the uploaded tree, queues and states
-  // are sized for the image). NVIDIA's driver otherwise tests each load
+  // (node and slot numbers come from the uploaded tree). NVIDIA's driver otherwise tests each load
   // against its buffer's size, two more instructions per load: turning that
   // off made H200 frames 4 to 6 % faster (docs/experiments/gpu-traversal.md).
   const vk::PipelineRobustnessCreateInfoEXT unchecked{.storageBuffers =
@@ -107,29 +107,16 @@ std::span<const std::uint32_t> raytraceSpirv(Precision precision) {
   return rt_raytrace_spirv;
 }
 
-RaytracePipeline::RaytracePipeline(const Device& device, Precision precision, SpecializationConstants constants,
-                                   std::span<const RaytraceStage> stages)
-    : setLayout_(createSetLayout(device)), layout_(createPipelineLayout(device, setLayout_)) {
-  const std::span<const std::uint32_t> code = raytraceSpirv(precision);
-  // Only needed while the pipelines are built.
-  const vk::raii::ShaderModule module(device.logical(),
-                                      vk::ShaderModuleCreateInfo{.codeSize = code.size_bytes(), .pCode = code.data()});
-  for (const RaytraceStage stage : stages) {
-    constants.stage = static_cast<std::int32_t>(stage);
-    pipelines_.at(static_cast<std::size_t>(stage)).emplace(createPipeline(device, layout_, module, constants));
-  }
-}
+RaytracePipeline::RaytracePipeline(const Device& device, Precision precision, const SpecializationConstants& constants)
+    : setLayout_(createSetLayout(device)),
+      layout_(createPipelineLayout(device, setLayout_)),
+      pipeline_(createPipeline(device, layout_, raytraceSpirv(precision), constants)) {}
 
-void RaytracePipeline::recordBind(const vk::raii::CommandBuffer& cb, RaytraceStage stage, vk::DescriptorSet set,
+void RaytracePipeline::recordBind(const vk::raii::CommandBuffer& cb, vk::DescriptorSet set,
                                   const FrameConstants& constants) const {
-  cb.bindPipeline(vk::PipelineBindPoint::eCompute, **pipelines_.at(static_cast<std::size_t>(stage)));
+  cb.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_);
   cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *layout_, 0, set, {});
   cb.pushConstants<FrameConstants>(*layout_, vk::ShaderStageFlagBits::eCompute, 0, constants);
-}
-
-void RaytracePipeline::recordWavefrontDepth(const vk::raii::CommandBuffer& cb, std::int32_t depth) const {
-  cb.pushConstants<std::int32_t>(*layout_, vk::ShaderStageFlagBits::eCompute, offsetof(FrameConstants, wavefrontDepth),
-                                 depth);
 }
 
 RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const SceneBuffers& buffers,
@@ -153,9 +140,8 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
     return vk::DescriptorBufferInfo{.buffer = buffer, .offset = 0, .range = VK_WHOLE_SIZE};
   };
   const std::array<vk::Buffer, kStorageBufferBindings> handles{
-      buffers.spheres,  buffers.bvhNodes,    buffers.bvhOrder, buffers.wideNodes,  buffers.wideIndex,
-      buffers.counters, buffers.queueEven,   buffers.queueOdd, buffers.pathStates, buffers.segments,
-      buffers.control,  buffers.leafSpheres, buffers.gridCells};
+      buffers.spheres,  buffers.bvhNodes,    buffers.bvhOrder,  buffers.wideNodes, buffers.wideIndex,
+      buffers.counters, buffers.leafSpheres, buffers.gridCells, buffers.loopGuard};
   std::array<vk::DescriptorBufferInfo, kStorageBufferBindings> bufferInfos{};
   for (std::size_t i = 0; i < kStorageBufferBindings; ++i) bufferInfos[i] = whole(handles[i]);
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};

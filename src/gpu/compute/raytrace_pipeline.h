@@ -1,7 +1,5 @@
 #pragma once
-#include <array>
 #include <cstdint>
-#include <optional>
 #include <span>
 
 #include "gpu/compute/gpu_layout.h"
@@ -21,35 +19,21 @@ constexpr std::uint32_t workgroupCount(int pixels, int groupSize) {
   return static_cast<std::uint32_t>((pixels + groupSize - 1) / groupSize);
 }
 
-// The stages of shaders/raytrace.comp one variant runs (RT_STAGE_*): the
-// megakernel alone, or a wavefront's depth and resolve dispatches.
-enum class RaytraceStage : std::int32_t {
-  megakernel = RT_STAGE_MEGAKERNEL,
-  wavefrontDepth = RT_STAGE_WAVEFRONT_DEPTH,
-  wavefrontResolve = RT_STAGE_WAVEFRONT_RESOLVE,
-};
-
-// The compute pipelines of one variant (the precision's SPIR-V; algorithm,
-// bounce exit, maxDepth, the BVH, the schedule and the counters as
-// specialization constants), one per stage it runs, with their shared set
-// and pipeline layouts.
+// The compute pipeline of one variant (the precision's SPIR-V; algorithm,
+// bounce exit, maxDepth, the BVH and the counters as specialization
+// constants), with its set and pipeline layouts.
 class RaytracePipeline {
  public:
-  // Builds the pipelines of `stages` from `constants` (its stage field is set per pipeline).
-  RaytracePipeline(const Device& device, Precision precision, SpecializationConstants constants,
-                   std::span<const RaytraceStage> stages);
+  RaytracePipeline(const Device& device, Precision precision, const SpecializationConstants& constants);
 
   [[nodiscard]] const vk::raii::DescriptorSetLayout& setLayout() const { return setLayout_; }
-  // Binds the pipeline of `stage` and `set`, and pushes this frame's constants.
-  void recordBind(const vk::raii::CommandBuffer& cb, RaytraceStage stage, vk::DescriptorSet set,
-                  const FrameConstants& constants) const;
-  // Pushes the bounce depth of the wavefront dispatch that follows.
-  void recordWavefrontDepth(const vk::raii::CommandBuffer& cb, std::int32_t depth) const;
+  // Binds the pipeline and `set`, and pushes this frame's constants.
+  void recordBind(const vk::raii::CommandBuffer& cb, vk::DescriptorSet set, const FrameConstants& constants) const;
 
  private:
   vk::raii::DescriptorSetLayout setLayout_;
   vk::raii::PipelineLayout layout_;
-  std::array<std::optional<vk::raii::Pipeline>, 3> pipelines_;  // by RaytraceStage
+  vk::raii::Pipeline pipeline_;
 };
 
 // The storage buffers the shader reads and writes. Slots a variant does not
@@ -62,18 +46,13 @@ struct SceneBuffers {
   vk::Buffer wideNodes;
   vk::Buffer wideIndex;
   vk::Buffer counters;
-  vk::Buffer queueEven;
-  vk::Buffer queueOdd;
-  vk::Buffer pathStates;
-  vk::Buffer segments;
-  vk::Buffer control;
   vk::Buffer leafSpheres;
   vk::Buffer gridCells;
+  vk::Buffer loopGuard;
 
   // Every slot naming `spheres`, for the others to be set.
   static SceneBuffers allSpheres(vk::Buffer spheres) {
-    return {spheres, spheres, spheres, spheres, spheres, spheres, spheres,
-            spheres, spheres, spheres, spheres, spheres, spheres};
+    return {spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres, spheres};
   }
 };
 

@@ -239,6 +239,75 @@ HWY_INLINE RaycastHitX<D> NearestHitSingle(D d, const SphereArrays& s, const Ray
   return HitRecord(d, s, ray, hn::Load(d, bestT), hn::ConvertTo(d, hn::Load(di, bestIndex)));
 }
 
+// A box the hybrid walk's packet has yet to enter: where, and the lanes
+// that reached it.
+struct PacketEntry {
+  WideEntry to;
+  std::uint32_t lanes;
+};
+
+// Few lanes left: each goes on alone from `e` (as --traversal single), and
+// its best hit comes back into the packet's.
+template <bool kCount, class D>
+HWY_INLINE void FinishLanesAlone(D d, const WideBvh& w, const PacketEntry& e, const PacketLanes& lanes, VecF<D>& bestT,
+                                 VecF<D>& bestIndex, Tally<kCount> tally) {
+  HWY_ALIGN float t[PacketLanes::kMaxLanes];
+  HWY_ALIGN float index[PacketLanes::kMaxLanes];
+  hn::Store(bestT, d, t);
+  hn::Store(bestIndex, d, index);
+  for (std::uint32_t bits = e.lanes; bits != 0; bits &= bits - 1) {
+    const auto lane = static_cast<std::size_t>(std::countr_zero(bits));
+    auto laneIndex = static_cast<std::int32_t>(index[lane]);
+    WalkSingle(w, e.to, SingleRayOf(lanes, lane), t[lane], laneIndex, tally);
+    index[lane] = static_cast<float>(laneIndex);
+  }
+  bestT = hn::Load(d, t);
+  bestIndex = hn::Load(d, index);
+}
+
+// A leaf's spheres against the lanes that reached it, in index order.
+template <bool kSphereExit, bool kDiscriminantExit, bool kCount, class D>
+HWY_INLINE void PacketLeafNearest(D d, const WideBvh& w, const PacketEntry& e, const RayX<D>& ray, MaskF<D> reaching,
+                                  VecF<D>& bestT, VecF<D>& bestIndex, Tally<kCount> tally) {
+  const LeafBlock& block = w.leaves[e.to.child.block()];
+  const std::uint32_t count = e.to.child.count();
+  if constexpr (kCount) tally.Spheres(count, count * hn::Lanes(d), count * std::popcount(e.lanes));
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::int32_t index = w.index[e.to.child.block() * std::size_t{kWideBvhWidth} + k];
+    IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, block.centerX[k], block.centerY[k], block.centerZ[k],
+                                                          block.radiusSquared[k], static_cast<float>(index), ray,
+                                                          reaching, bestT, bestIndex);
+  }
+}
+
+// The node's children that some lane reaches nearer than its best hit +
+// pad, pushed farthest first (the nearest comes off next). Returns the new top.
+template <bool kCount, class D>
+HWY_INLINE int PushReachedChildren(D d, const WideBvhNode& node, const RayX<D>& ray, const Vec3x<D>& inverse,
+                                   VecF<D> pad, VecF<D> bestT, MaskF<D> reaching, PacketEntry* stack, int top,
+                                   Tally<kCount> tally) {
+  PacketEntry near[WideBvhNode::kWidth];
+  int n = 0;
+  for (std::size_t j = 0; j < node.childCount; ++j) {
+    const float lo[3] = {node.bounds[WideBvhNode::kLoX][j], node.bounds[WideBvhNode::kLoY][j],
+                         node.bounds[WideBvhNode::kLoZ][j]};
+    const float hi[3] = {node.bounds[WideBvhNode::kHiX][j], node.bounds[WideBvhNode::kHiY][j],
+                         node.bounds[WideBvhNode::kHiZ][j]};
+    VecF<D> entry;
+    const MaskF<D> reach = BoxReachable(d, lo, hi, ray, inverse, pad, bestT, reaching, entry);
+    if constexpr (kCount) tally.Nodes(1, hn::Lanes(d), hn::CountTrue(d, reach));
+    if (hn::AllFalse(d, reach)) continue;
+    const float nearest = hn::GetLane(
+        hn::MinOfLanes(d, hn::IfThenElse(reach, entry, hn::Set(d, std::numeric_limits<float>::infinity()))));
+    PacketEntry p{{node.child[j], nearest}, LaneBits(d, reach)};
+    int k = n++;
+    for (; k > 0 && near[k - 1].to.entry < p.to.entry; --k) near[k] = near[k - 1];  // farthest first
+    near[k] = p;
+  }
+  for (int k = 0; k < n; ++k) stack[top++] = near[k];
+  return top;
+}
+
 // Packets through the wide BVH, one box of a node at a time, while more
 // than `threshold` lanes reach it; below, each of those lanes goes on alone
 // from that box (--traversal hybrid).
@@ -252,63 +321,19 @@ HWY_INLINE RaycastHitX<D> NearestHitHybrid(D d, const SphereArrays& s, const Ray
   const VecF<D> pad = TraversalPad(d, *s.bvh, ray.origin);
   PacketLanes lanes;
   StoreLanes(d, ray, inverse, pad, lanes);
-  struct PacketEntry {
-    WideEntry to;
-    std::uint32_t lanes;  // those that reached its box
-  };
   PacketEntry stack[WideBvhNode::kWidth * (kWideMaxDepth + 1) + 1];
   int top = 0;
   stack[top++] = {{WideChild::inner(0), 0.0f}, LaneBits(d, active)};
   while (top > 0) {
     const PacketEntry e = stack[--top];
     if (std::popcount(e.lanes) <= threshold) {
-      HWY_ALIGN float t[PacketLanes::kMaxLanes];
-      HWY_ALIGN float index[PacketLanes::kMaxLanes];
-      hn::Store(bestT, d, t);
-      hn::Store(bestIndex, d, index);
-      for (std::uint32_t bits = e.lanes; bits != 0; bits &= bits - 1) {
-        const auto lane = static_cast<std::size_t>(std::countr_zero(bits));
-        auto laneIndex = static_cast<std::int32_t>(index[lane]);
-        WalkSingle(w, e.to, SingleRayOf(lanes, lane), t[lane], laneIndex, tally);
-        index[lane] = static_cast<float>(laneIndex);
-      }
-      bestT = hn::Load(d, t);
-      bestIndex = hn::Load(d, index);
-      continue;
+      FinishLanesAlone(d, w, e, lanes, bestT, bestIndex, tally);
+    } else if (e.to.child.leaf()) {
+      PacketLeafNearest<kSphereExit, kDiscriminantExit>(d, w, e, ray, MaskOfBits(d, e.lanes), bestT, bestIndex, tally);
+    } else {
+      top = PushReachedChildren(d, w.nodes[e.to.child.node()], ray, inverse, pad, bestT, MaskOfBits(d, e.lanes), stack,
+                                top, tally);
     }
-    const MaskF<D> reaching = MaskOfBits(d, e.lanes);
-    if (e.to.child.leaf()) {
-      const LeafBlock& block = w.leaves[e.to.child.block()];
-      const std::uint32_t count = e.to.child.count();
-      if constexpr (kCount) tally.Spheres(count, count * hn::Lanes(d), count * std::popcount(e.lanes));
-      for (std::uint32_t k = 0; k < count; ++k) {
-        const std::int32_t index = w.index[e.to.child.block() * std::size_t{kWideBvhWidth} + k];
-        IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, block.centerX[k], block.centerY[k], block.centerZ[k],
-                                                              block.radiusSquared[k], static_cast<float>(index), ray,
-                                                              reaching, bestT, bestIndex);
-      }
-      continue;
-    }
-    const WideBvhNode& node = w.nodes[e.to.child.node()];
-    PacketEntry near[WideBvhNode::kWidth];
-    int n = 0;
-    for (std::size_t j = 0; j < node.childCount; ++j) {
-      const float lo[3] = {node.bounds[WideBvhNode::kLoX][j], node.bounds[WideBvhNode::kLoY][j],
-                           node.bounds[WideBvhNode::kLoZ][j]};
-      const float hi[3] = {node.bounds[WideBvhNode::kHiX][j], node.bounds[WideBvhNode::kHiY][j],
-                           node.bounds[WideBvhNode::kHiZ][j]};
-      VecF<D> entry;
-      const MaskF<D> reach = BoxReachable(d, lo, hi, ray, inverse, pad, bestT, reaching, entry);
-      if constexpr (kCount) tally.Nodes(1, hn::Lanes(d), hn::CountTrue(d, reach));
-      if (hn::AllFalse(d, reach)) continue;
-      const float nearest = hn::GetLane(
-          hn::MinOfLanes(d, hn::IfThenElse(reach, entry, hn::Set(d, std::numeric_limits<float>::infinity()))));
-      PacketEntry p{{node.child[j], nearest}, LaneBits(d, reach)};
-      int k = n++;
-      for (; k > 0 && near[k - 1].to.entry < p.to.entry; --k) near[k] = near[k - 1];  // farthest first
-      near[k] = p;
-    }
-    for (int k = 0; k < n; ++k) stack[top++] = near[k];
   }
   return HitRecord(d, s, ray, bestT, bestIndex);
 }
