@@ -61,6 +61,8 @@
 #define RT_SPEC_BVH_PAD_ORIGIN_SLOPE 18
 // Lavapipe's loop limit (loop_guard.glsl).
 #define RT_SPEC_LOOP_GUARD 19
+// --gpu-bvh grid: the spheres kept apart, the first slots (rt::SphereGrid::apartCount).
+#define RT_SPEC_GRID_APART_COUNT 20
 
 // One invocation per pixel in 8x8 tiles: two 32-wide warps on NVIDIA, one
 // 64-wide wave on AMD, eight 8-wide rows for lavapipe's 256-bit vectors.

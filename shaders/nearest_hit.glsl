@@ -350,28 +350,42 @@ float gridPlaneDistance(int k, float gridOrigin, float origin, float inverse) {
   return (gridOrigin + float(k) * GRID_CELL_SIZE - origin) * inverse;
 }
 
-// With the grid: the nearest hit of brute force. The ray steps through the
-// cells it crosses in order (Amanatides and Woo's walk, each boundary's
-// distance computed afresh rather than summed), tests every sphere a cell
-// lists, and stops once the next cell starts farther than the best hit
-// (+ pad). A cell lists every sphere whose surface passes within the
-// scene's traversal pad (and 2^-8 of a cell) of it, so a sphere the float
-// test hits at t is listed by a cell the ray crosses near t: the cells
-// before the stop hold every sphere nearer than the best hit, and an exact
-// tie still goes to the lower index (docs/render-model.md section 3).
+// The grid's spheres kept apart (too large for its cells): leaf slots
+// 0 .. GRID_APART_COUNT - 1, in index order, before the walk.
+void testSpheresKeptApart(Ray ray) {
+  for (uint k = 0u; k < uint(GRID_APART_COUNT); ++k) {
+    if (COUNTERS) ++searchSpheres;
+    testLeafSphere(ray, k);
+  }
+}
+
+// With the grid: the nearest hit of brute force. The spheres kept apart
+// (too large for the cells) are tested first, in index order; then the ray
+// steps through the cells it crosses in order (Amanatides and Woo's walk,
+// each boundary's distance computed afresh rather than summed), tests every
+// sphere a cell lists, and stops once the next cell starts farther than the
+// best hit + pad. A cell lists every sphere whose surface passes within
+// that sphere's own traversal pad (and 2^-8 of a cell) of it, so a sphere
+// the float test hits at t is listed by a cell the ray crosses near t; the
+// pad here is that of the largest radius and |coordinate| the cells list
+// (SphereGrid::walkPad), so it covers every sphere the walk could still meet
+// behind its stop. An exact tie still goes to the lower index, whichever
+// list a sphere came from (docs/render-model.md section 3, "The grid").
 // One loop iteration tests one sphere or steps into one cell, so that the
 // invocations of a subgroup whose cells list different numbers of spheres
 // go on together instead of each cell waiting for the subgroup's longest
 // list: 1.11x faster at 10,000 spheres on the H200 than a sphere loop
 // inside the cell loop (docs/experiments/gpu-traversal.md).
 RaycastHit nearestHitInGrid(Ray ray) {
+  testSpheresKeptApart(ray);
   vec3 origin = toFloat3(ray.origin);
   vec3 inverse = inverseDirection(toFloat3(ray.direction));
   float pad = traversalPad(origin);
   vec3 gridOrigin = vec3(GRID_ORIGIN_X, GRID_ORIGIN_Y, GRID_ORIGIN_Z);
   ivec3 cells = ivec3(GRID_CELLS_X, GRID_CELLS_Y, GRID_CELLS_Z);
-  // The grid's box reaches past every listed sphere's surface by the margin,
-  // as a binary node's box past its spheres: the same slab test clips the ray.
+  // The grid's box reaches past every listed sphere's surface by its margin,
+  // as a binary node's box past its spheres: the same slab test clips the
+  // ray, and skips the cells where a sphere kept apart is hit before them.
   float enter;
   if (!boxReachable(gridOrigin, gridOrigin + vec3(cells) * GRID_CELL_SIZE, ray, inverse, pad, enter)) {
     return hitRecord(ray, toReal(searchBest), searchBestIndex);

@@ -49,6 +49,9 @@ layout(constant_id = RT_SPEC_GRID_CELL_SIZE) const float GRID_CELL_SIZE = 1.0;
 layout(constant_id = RT_SPEC_GRID_CELLS_X) const int GRID_CELLS_X = 1;
 layout(constant_id = RT_SPEC_GRID_CELLS_Y) const int GRID_CELLS_Y = 1;
 layout(constant_id = RT_SPEC_GRID_CELLS_Z) const int GRID_CELLS_Z = 1;
+// The spheres it keeps apart: leaf slots 0 .. GRID_APART_COUNT - 1, tested
+// by every ray before the walk.
+layout(constant_id = RT_SPEC_GRID_APART_COUNT) const int GRID_APART_COUNT = 0;
 // --counters: tally rays, visits, tests and lane slots (nearest_hit.glsl).
 layout(constant_id = RT_SPEC_COUNTERS) const bool COUNTERS = false;
 // Lavapipe: find out whether its loop limit cut a loop short (loop_guard.glsl).

@@ -242,6 +242,7 @@ nlohmann::json accelStructureJson(const RendererInfo& renderer) {
       case Key::box_padding: return a.padding ? nlohmann::json(nameOf(*a.padding)) : nullptr;
       case Key::estimated_tests_per_ray:
         return a.estimatedTestsPerRay ? nlohmann::json(*a.estimatedTestsPerRay) : nullptr;
+      case Key::spheres_kept_apart: return a.spheresKeptApart ? nlohmann::json(*a.spheresKeptApart) : nullptr;
     }
     unhandledKey("accel_structure");
   });

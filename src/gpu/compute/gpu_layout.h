@@ -131,8 +131,9 @@ struct SpecializationConstants {
   float gridOrigin[3] = {0.0f, 0.0f, 0.0f};          // rt::SphereGrid's origin, cellSize and cells
   float gridCellSize = 1.0f;
   std::int32_t gridCells[3] = {1, 1, 1};
-  float bvhPadOriginSlope = 0.0f;  // Bvh::pad.originSlope
-  std::uint32_t loopGuard = 0;     // VkBool32: lavapipe (shaders/loop_guard.glsl)
+  float bvhPadOriginSlope = 0.0f;   // Bvh::pad.originSlope
+  std::uint32_t loopGuard = 0;      // VkBool32: lavapipe (shaders/loop_guard.glsl)
+  std::int32_t gridApartCount = 0;  // rt::SphereGrid::apartCount
 };
 
 // The binary walk pushes at most one child per level of the tree on its way

@@ -45,9 +45,9 @@ SpecializationConstants specializationFor(const Scene& scene, const RenderOption
                                     .maxDepth = scene.render.maxDepth};
   if (bvh) {
     constants.useBvh = VK_TRUE;
-    // The grid lists its spheres by the scene's pad (gridFor()), so its
-    // walk stops by that pad too, whatever padding the tree's boxes carry.
-    const TraversalPadModel pad = grid ? TraversalPadModel{bvh->maxRadius, bvh->maxCoordinate, 0.0f} : bvh->pad;
+    // The grid's walk stops by the pad of the spheres its cells list
+    // (SphereGrid::walkPad), whatever padding the tree's boxes carry.
+    const TraversalPadModel pad = grid ? grid->walkPad : bvh->pad;
     constants.bvhPadRadius = pad.radius;
     constants.bvhPadCoordinate = pad.coordinate;
     constants.bvhPadOriginSlope = pad.originSlope;
@@ -64,6 +64,7 @@ SpecializationConstants specializationFor(const Scene& scene, const RenderOption
       constants.gridCells[axis] = grid->cells[axis];
     }
     constants.gridCellSize = grid->cellSize;
+    constants.gridApartCount = static_cast<std::int32_t>(grid->apartCount);
   }
   constants.counters = options.counters ? VK_TRUE : VK_FALSE;
   constants.loopGuard = loopGuard ? VK_TRUE : VK_FALSE;
@@ -185,11 +186,13 @@ std::uint64_t gridDeviceBytes(const SphereGrid& grid) {
 }
 
 // --gpu-bvh grid: each cell lists the spheres whose surface passes within
-// the scene's traversal pad of it (docs/render-model.md section 3, "The grid").
+// their own traversal pad of it, for every origin the scene's rays can have
+// (the tree's bound of every sphere, those kept apart too, and the camera's
+// orbit); docs/render-model.md section 3, "The grid".
 std::optional<SphereGrid> gridFor(const Scene& scene, const RenderOptions& options, const Bvh* bvh) {
   if (!bvh || options.gpuBvh != GpuBvh::grid) return std::nullopt;
-  return buildSphereGrid(scene.spheres,
-                         sceneTraversalPad(bvh->maxRadius, bvh->maxCoordinate, cameraMaxCoordinate(scene.camera)));
+  const float origins = originBound(bvh->maxCoordinate, cameraMaxCoordinate(scene.camera));
+  return buildSphereGrid(scene.spheres, sphereGridMargins(scene.spheres, origins));
 }
 
 // Lavapipe's guard words (shaders/loop_guard.glsl): host-visible, zeroed
@@ -416,14 +419,15 @@ RendererInfo GPURenderer::info() const {
   if (!scene_) return info;
   info.accelStructure = scene_->accel.info();
   if (scene_->grid && info.accelStructure) {
-    // The tree only sized the traversal pad: the grid's cells stand for the nodes, and it has no depth.
+    // The tree only bounded the origins: the grid's cells stand for the nodes, and it has no depth.
     const SphereGrid& grid = *scene_->grid;
     info.accelStructure->buildMs += grid.buildMs;
     info.accelStructure->nodes = grid.cellCount();
     info.accelStructure->depth = std::nullopt;
     info.accelStructure->deviceBytes = gridDeviceBytes(grid);
-    info.accelStructure->padding = BoxPadding::scene;  // its cells list by the scene's pad (gridFor())
+    info.accelStructure->padding = BoxPadding::local;  // each sphere listed by its own pad (gridFor())
     info.accelStructure->estimatedTestsPerRay = std::nullopt;
+    info.accelStructure->spheresKeptApart = grid.apartCount;
   }
   if (scene_->accel.bvh()) info.gpuBvh = scene_->options.gpuBvh;
   info.gpuWalkProbe = walkProbe_;

@@ -36,7 +36,7 @@ constexpr auto kBindings = bindings();
 constexpr vk::PushConstantRange kPushConstants{
     .stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = sizeof(FrameConstants)};
 
-constexpr std::array<vk::SpecializationMapEntry, 20> kSpecializationEntries{{
+constexpr std::array<vk::SpecializationMapEntry, 21> kSpecializationEntries{{
     {RT_SPEC_TWO_PASS, offsetof(SpecializationConstants, twoPass), sizeof(std::uint32_t)},
     {RT_SPEC_BOUNCE_EXIT, offsetof(SpecializationConstants, bounceExit), sizeof(std::uint32_t)},
     {RT_SPEC_MAX_DEPTH, offsetof(SpecializationConstants, maxDepth), sizeof(std::int32_t)},
@@ -58,6 +58,7 @@ constexpr std::array<vk::SpecializationMapEntry, 20> kSpecializationEntries{{
     {RT_SPEC_GRID_CELLS_Z, offsetof(SpecializationConstants, gridCells) + 2 * sizeof(std::int32_t),
      sizeof(std::int32_t)},
     {RT_SPEC_LOOP_GUARD, offsetof(SpecializationConstants, loopGuard), sizeof(std::uint32_t)},
+    {RT_SPEC_GRID_APART_COUNT, offsetof(SpecializationConstants, gridApartCount), sizeof(std::int32_t)},
 }};
 
 vk::raii::DescriptorSetLayout createSetLayout(const Device& device) {

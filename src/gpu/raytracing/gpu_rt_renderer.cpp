@@ -85,7 +85,8 @@ RendererInfo GpuRtRenderer::info() const {
                                            .depth = std::nullopt,
                                            .deviceBytes = scene_->structure.deviceBytes(),
                                            .padding = std::nullopt,  // the driver's boxes, each padded by its sphere
-                                           .estimatedTestsPerRay = std::nullopt};
+                                           .estimatedTestsPerRay = std::nullopt,
+                                           .spheresKeptApart = std::nullopt};
   info.gpuRtReorder = scene_->options.gpuRtReorder;
   return info;
 }

@@ -24,6 +24,9 @@ struct AccelStructureInfo {
   // empty for the driver's structure.
   std::optional<BoxPadding> padding;
   std::optional<double> estimatedTestsPerRay;
+  // The grid's spheres kept out of its cells (rt::SphereGrid::apartCount);
+  // empty for the trees and the driver's structure.
+  std::optional<std::uint32_t> spheresKeptApart;
 };
 
 }  // namespace rt

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/profiler.h"
+#include "render/accel/centre_region.h"
 
 namespace rt {
 namespace {
@@ -493,40 +494,26 @@ float typicalOrigin(std::span<const Sphere> spheres) {
   return *middle;
 }
 
-double surfaceArea(const BvhNode& n, double widenedBy) {
-  const double x = double(n.hi.x) - double(n.lo.x) + 2 * widenedBy;
-  const double y = double(n.hi.y) - double(n.lo.y) + 2 * widenedBy;
-  const double z = double(n.hi.z) - double(n.lo.z) + 2 * widenedBy;
+double surfaceArea(glm::vec3 lo, glm::vec3 hi, double widenedBy) {
+  const double x = double(hi.x) - double(lo.x) + 2 * widenedBy;
+  const double y = double(hi.y) - double(lo.y) + 2 * widenedBy;
+  const double z = double(hi.z) - double(lo.z) + 2 * widenedBy;
   return 2 * (x * y + y * z + z * x);
 }
 
-// Where a scene's rays mostly go: between the 5th and the 95th percentile
-// of the sphere centres on each axis, so that one huge sphere (a ground of
-// radius 1000 under spheres of radius 0.2) does not stand for the scene the
-// way the root's box would.
-BvhNode typicalRegion(std::span<const Sphere> spheres) {
-  BvhNode region{};
-  std::vector<float> values(spheres.size());
-  const auto low = static_cast<std::ptrdiff_t>(spheres.size() / 20);
-  const auto high = static_cast<std::ptrdiff_t>(spheres.size() - 1 - spheres.size() / 20);
-  for (int a = 0; a < 3; ++a) {
-    std::ranges::transform(spheres, values.begin(), [a](const Sphere& s) { return s.position[a]; });
-    std::ranges::nth_element(values, values.begin() + low);
-    region.lo[a] = values[static_cast<std::size_t>(low)];
-    std::ranges::nth_element(values, values.begin() + high);
-    region.hi[a] = values[static_cast<std::size_t>(high)];
-  }
-  return region;
-}
+double surfaceArea(const BvhNode& n, double widenedBy) { return surfaceArea(n.lo, n.hi, widenedBy); }
 
 // What padPrice() reads of the spheres, taken once for both paddings.
 struct PriceInputs {
   float origin;   // typicalOrigin()
-  double region;  // the surface area of typicalRegion(), or of the root's box where that is flat
+  double region;  // the surface area of typicalCentreRegion(), or of the root's box where that is flat
 };
 
 PriceInputs priceInputs(const Bvh& bvh, std::span<const Sphere> spheres) {
-  double region = surfaceArea(typicalRegion(spheres), 0.0);
+  // Where a scene's rays mostly go: one huge sphere does not stand for
+  // the scene the way the root's box would (render/accel/centre_region.h).
+  const CentreRegion typical = typicalCentreRegion(spheres);
+  double region = surfaceArea(typical.lo, typical.hi, 0.0);
   if (!(region > 0.0)) region = surfaceArea(bvh.nodes[0], 0.0);
   return {typicalOrigin(spheres), region};
 }

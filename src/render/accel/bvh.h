@@ -169,7 +169,7 @@ class AccelStructure {
   [[nodiscard]] std::optional<AccelStructureInfo> info() const {
     if (!bvh_) return std::nullopt;
     return AccelStructureInfo{Accel::bvh,   bvh_->buildMs, bvh_->nodes.size(), bvh_->depth,
-                              std::nullopt, bvh_->padding, bvh_->price};
+                              std::nullopt, bvh_->padding, bvh_->price,        std::nullopt};
   }
 
  private:

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gpu/compute/gpu_renderer.h"
@@ -199,23 +200,36 @@ TEST_F(GpuVariants, TheBinaryWalksTreeHasOneSpherePerLeaf) {
   EXPECT_EQ(gpu.info().accelStructure->nodes, buildBvh(scene.spheres).nodes.size());
 }
 
-// The grid is sized from the spheres and the scene's traversal pad, as the
-// build alone sizes it; its cells stand for the nodes, and it has no depth.
+// The grid is sized and listed as the build alone does it, each sphere by
+// its own pad for the scene's origins (so its padding is local); its cells
+// stand for the nodes, it has no depth, and the spheres it keeps apart are
+// counted (the ground of ground500, none in random1000).
 TEST_F(GpuVariants, TheGridReportsItsCellsAsItsNodes) {
   gpu::GPURenderer gpu(context(), PresentMode::upload);
-  const Scene scene = loadNamedScene("random1000");
   RenderOptions options = optionsForStage(Stage::optimized);
   options.accel = Accel::bvh;
   options.gpuBvh = GpuBvh::grid;
-  renderFrame(gpu, scene, {16, 16}, options, kFrame);
-  EXPECT_EQ(gpu.info().gpuBvh, GpuBvh::grid);
-  ASSERT_TRUE(gpu.info().accelStructure.has_value());
-  const Bvh bvh = buildBvh(scene.spheres, kSingleSphereLeaves);
-  const SphereGrid grid = buildSphereGrid(scene.spheres, sceneTraversalPad(bvh, cameraMaxCoordinate(scene.camera)));
-  EXPECT_EQ(gpu.info().accelStructure->nodes, grid.cellCount());
-  EXPECT_FALSE(gpu.info().accelStructure->depth.has_value());
-  // Its cells (first slot, count) and each slot's sphere (vec4) and index.
-  EXPECT_EQ(gpu.info().accelStructure->deviceBytes, grid.cellCount() * 8 + grid.slots.size() * 20);
+  for (const auto& [name, apart] : {std::pair{"random1000", 0u}, std::pair{"ground500", 1u}}) {
+    const Scene scene = loadNamedScene(name);
+    renderFrame(gpu, scene, {16, 16}, options, kFrame);
+    const RendererInfo reported = gpu.info();
+    EXPECT_EQ(reported.gpuBvh, GpuBvh::grid);
+    ASSERT_TRUE(reported.accelStructure.has_value());
+    const Bvh bvh = buildBvh(scene.spheres, kSingleSphereLeaves);
+    const float origins = originBound(bvh.maxCoordinate, cameraMaxCoordinate(scene.camera));
+    const SphereGrid grid = buildSphereGrid(scene.spheres, sphereGridMargins(scene.spheres, origins));
+    const AccelStructureInfo& info = *reported.accelStructure;
+    EXPECT_EQ(info.nodes, grid.cellCount()) << name;
+    EXPECT_FALSE(info.depth.has_value()) << name;
+    EXPECT_EQ(info.padding, BoxPadding::local) << name;
+    EXPECT_EQ(info.spheresKeptApart, apart) << name;
+    EXPECT_EQ(grid.apartCount, apart) << name;
+    // Its cells (first slot, count) and each slot's sphere (vec4) and index.
+    EXPECT_EQ(info.deviceBytes, grid.cellCount() * 8 + grid.slots.size() * 20) << name;
+  }
+  options.gpuBvh = GpuBvh::binary;
+  renderFrame(gpu, loadNamedScene("ground500"), {16, 16}, options, kFrame);
+  EXPECT_FALSE(gpu.info().accelStructure->spheresKeptApart.has_value()) << "a tree keeps none apart";
 }
 
 // A pile of coincident spheres leaves a walk no box to cull: every ray tests
