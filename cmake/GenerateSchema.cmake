@@ -278,3 +278,209 @@ inline constexpr double kSceneMinLength = ${scene_min_length};\n\n\
 }  // namespace rt::schema\n")
   file(CONFIGURE OUTPUT "${header_path}" CONTENT "${content}")
 endfunction()
+
+# --- the run-time axes (schema: axes), in a header of their own: only the
+# command line applies them, so a change to them rebuilds no kernel. --------
+
+# The index of `name` in the schema list `list` (of names or named objects);
+# a configure error naming `what` where it is not there.
+function(rt_index_of out json list name what)
+  rt_json_names(names "${json}" ${list})
+  list(FIND names "${name}" index)
+  if(index LESS 0)
+    message(FATAL_ERROR "schema/rt_schema.json: ${what}: '${name}' is not one of ${list} (${names})")
+  endif()
+  set(${out} ${index} PARENT_SCOPE)
+endfunction()
+
+# A C++ bit mask over the indices of the names in the JSON array at the
+# member path given after `list` (names of the schema list `list`).
+function(rt_index_mask out json list what)
+  string(JSON count LENGTH "${json}" ${ARGN})
+  set(mask "0u")
+  if(count GREATER 0)
+    math(EXPR last "${count} - 1")
+    foreach(j RANGE ${last})
+      string(JSON name GET "${json}" ${ARGN} ${j})
+      rt_index_of(index "${json}" ${list} "${name}" "${what}")
+      string(APPEND mask " | (1u << ${index})")
+    endforeach()
+  endif()
+  set(${out} "${mask}" PARENT_SCOPE)
+endfunction()
+
+# "gpu_rt_reorders" -> "GpuRtReorder": the enum generated from a value list.
+function(rt_enum_of_list out list)
+  string(REGEX REPLACE "s$" "" singular "${list}")
+  rt_pascal_case(pascal "${singular}")
+  set(${out} "${pascal}" PARENT_SCOPE)
+endfunction()
+
+# "a \"b\"" for a C++ string literal.
+function(rt_cxx_string out text)
+  string(REPLACE "\\" "\\\\" text "${text}")
+  string(REPLACE "\"" "\\\"" text "${text}")
+  set(${out} "\"${text}\"" PARENT_SCOPE)
+endfunction()
+
+# What axis `i` holds: its values (a span of a generated name table, empty
+# for count and toggle), its default and its minimum.
+function(rt_axis_values out_values out_default out_minimum json i)
+  string(JSON name GET "${json}" axes ${i} name)
+  string(JSON kind GET "${json}" axes ${i} kind)
+  set(minimum 0)
+  if(kind STREQUAL "choice")
+    string(JSON list GET "${json}" axes ${i} values)
+    string(JSON default_name GET "${json}" axes ${i} default)
+    rt_index_of(default "${json}" ${list} "${default_name}" "axes ${name} default")
+    rt_enum_of_list(enum "${list}")
+    set(values "k${enum}Names")
+  elseif(kind STREQUAL "count")
+    string(JSON default GET "${json}" axes ${i} default)
+    string(JSON minimum GET "${json}" axes ${i} minimum)
+    set(values "{}")
+  elseif(kind STREQUAL "toggle")
+    string(JSON default GET "${json}" axes ${i} default)
+    if(default)
+      set(default 1)
+    else()
+      set(default 0)
+    endif()
+    set(values "{}")
+  else()
+    message(FATAL_ERROR "schema/rt_schema.json: axes ${name}: unknown kind '${kind}' (choice, count, toggle)")
+  endif()
+  set(${out_values} "${values}" PARENT_SCOPE)
+  set(${out_default} "${default}" PARENT_SCOPE)
+  set(${out_minimum} "${minimum}" PARENT_SCOPE)
+endfunction()
+
+# One AxisDefinition initialiser for axes[i].
+function(rt_axis_definition out json i)
+  string(JSON name GET "${json}" axes ${i} name)
+  string(JSON flag GET "${json}" axes ${i} flag)
+  string(JSON kind GET "${json}" axes ${i} kind)
+  string(JSON description GET "${json}" axes ${i} description)
+  rt_cxx_string(description "${description}")
+  rt_axis_values(values default minimum "${json}" ${i})
+  string(JSON renderers ERROR_VARIABLE every GET "${json}" axes ${i} renderers)
+  if(every)
+    string(JSON count LENGTH "${json}" renderers)
+    set(mask "((1u << ${count}) - 1u)")
+  else()
+    rt_bit_mask(mask "${json}" RendererKind axes ${i} renderers)
+  endif()
+  string(JSON for_all ERROR_VARIABLE not_for_all GET "${json}" axes ${i} default_for_all)
+  if(not_for_all OR NOT for_all)
+    set(for_all false)
+  else()
+    set(for_all true)
+  endif()
+  set(${out}
+      "    AxisDefinition{\"${flag}\", AxisKind::${kind}, ${values}, ${default}, ${minimum}, ${mask}, ${for_all},\n                   ${description}},\n"
+      PARENT_SCOPE)
+endfunction()
+
+# The values (a mask over the schema list of axis `on`) that axis `on`
+# must have for axes[i]; `on` must be an earlier choice axis, so that the
+# CLI has set it when it checks axes[i].
+function(rt_axis_requirement out json i on)
+  string(JSON name GET "${json}" axes ${i} name)
+  rt_json_names(axes "${json}" axes)
+  list(FIND axes "${on}" on_index)
+  if(on_index LESS 0 OR on_index GREATER_EQUAL i)
+    message(FATAL_ERROR "schema/rt_schema.json: axes ${name}: requires '${on}', which is not an earlier axis")
+  endif()
+  string(JSON on_kind GET "${json}" axes ${on_index} kind)
+  if(NOT on_kind STREQUAL "choice")
+    message(FATAL_ERROR "schema/rt_schema.json: axes ${name}: requires '${on}', which is not a choice")
+  endif()
+  string(JSON list GET "${json}" axes ${on_index} values)
+  rt_index_mask(mask "${json}" ${list} "axes ${name} requires ${on}" axes ${i} requires ${on})
+  set(${out} "    AxisRequirement{Axis::${name}, Axis::${on}, ${mask}},\n" PARENT_SCOPE)
+endfunction()
+
+# The AxisRequirement and AxisConditionalDefault rows of axes[i].
+function(rt_axis_conditions out_requirements out_defaults json i)
+  string(JSON name GET "${json}" axes ${i} name)
+  set(requirements "")
+  string(JSON count ERROR_VARIABLE none LENGTH "${json}" axes ${i} requires)
+  if(NOT none AND count GREATER 0)
+    math(EXPR last "${count} - 1")
+    foreach(j RANGE ${last})
+      string(JSON on MEMBER "${json}" axes ${i} requires ${j})
+      rt_axis_requirement(row "${json}" ${i} "${on}")
+      string(APPEND requirements "${row}")
+    endforeach()
+  endif()
+  set(defaults "")
+  string(JSON count ERROR_VARIABLE none LENGTH "${json}" axes ${i} default_when)
+  if(NOT none AND count GREATER 0)
+    string(JSON list GET "${json}" axes ${i} values)
+    rt_json_names(axes "${json}" axes)
+    math(EXPR last "${count} - 1")
+    foreach(j RANGE ${last})
+      foreach(field axis is default)
+        string(JSON ${field} GET "${json}" axes ${i} default_when ${j} ${field})
+      endforeach()
+      list(FIND axes "${axis}" on_index)
+      string(JSON on_list GET "${json}" axes ${on_index} values)
+      rt_index_of(is_index "${json}" ${on_list} "${is}" "axes ${name} default_when")
+      rt_index_of(default_index "${json}" ${list} "${default}" "axes ${name} default_when")
+      string(APPEND defaults "    AxisConditionalDefault{Axis::${name}, Axis::${axis}, ${is_index}, ${default_index}},\n")
+    endforeach()
+  endif()
+  set(${out_requirements} "${requirements}" PARENT_SCOPE)
+  set(${out_defaults} "${defaults}" PARENT_SCOPE)
+endfunction()
+
+# "inline constexpr std::array<Type, N> kName{{rows}};", N counted from the
+# rows (each "    Type{...},", its initialiser may go on over more lines).
+function(rt_table out type name rows)
+  string(REGEX MATCHALL "    ${type}{" starts "${rows}")
+  list(LENGTH starts n)
+  set(${out} "inline constexpr std::array<${type}, ${n}> ${name}{{\n${rows}}};\n" PARENT_SCOPE)
+endfunction()
+
+function(rt_generate_axes_header json_path header_path)
+  file(READ "${json_path}" json)
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${json_path}")
+  rt_json_names(axes "${json}" axes)
+  rt_enum_block(b_axes Axis "${axes}")
+  rt_enum_block(b_kinds AxisKind "choice;count;toggle")
+  string(JSON count LENGTH "${json}" axes)
+  math(EXPR last "${count} - 1")
+  set(definitions "")
+  set(requirements "")
+  set(defaults "")
+  foreach(i RANGE ${last})
+    rt_axis_definition(row "${json}" ${i})
+    string(APPEND definitions "${row}")
+    rt_axis_conditions(required default_rows "${json}" ${i})
+    string(APPEND requirements "${required}")
+    string(APPEND defaults "${default_rows}")
+  endforeach()
+  rt_table(t_definitions AxisDefinition kAxisDefinitions "${definitions}")
+  rt_table(t_requirements AxisRequirement kAxisRequirements "${requirements}")
+  rt_table(t_defaults AxisConditionalDefault kAxisConditionalDefaults "${defaults}")
+  set(content
+"// Generated from schema/rt_schema.json (axes) by cmake/GenerateSchema.cmake. Do not edit.\n\
+#pragma once\n#include <array>\n#include <cstddef>\n#include <span>\n#include <string_view>\n\n#include \"rt_schema.h\"\n\n\
+namespace rt::schema {\n\n${b_axes}${b_kinds}\
+// An axis: its option, its kind, its values (choice: the schema list's names),\n\
+// its default (choice: an index into values; count: the number, below minimum\n\
+// where the renderer chooses; toggle: 0 or 1), the renderers that take it as a\n\
+// bit mask over RendererKind, and whether every renderer takes its default.\n\
+struct AxisDefinition {\n  std::string_view flag;\n  AxisKind kind;\n  std::span<const std::string_view> values;\n\
+  int defaultValue;\n  int minimum;\n  unsigned rendererMask;\n  bool defaultForAll;\n  std::string_view description;\n\
+  [[nodiscard]] constexpr bool takenBy(RendererKind r) const { return (rendererMask >> static_cast<int>(r)) & 1u; }\n};\n\
+${t_definitions}\n\
+// Where `axis` is given, axis `on` must have one of the values in valueMask\n\
+// (bits over its value indices).\n\
+struct AxisRequirement {\n  Axis axis;\n  Axis on;\n  unsigned valueMask;\n};\n${t_requirements}\n\
+// Where `axis` is not given and axis `on` has the value onValue, the default of\n\
+// `axis` is `value` (indices into each one's values).\n\
+struct AxisConditionalDefault {\n  Axis axis;\n  Axis on;\n  int onValue;\n  int value;\n};\n${t_defaults}\n\
+}  // namespace rt::schema\n")
+  file(CONFIGURE OUTPUT "${header_path}" CONTENT "${content}")
+endfunction()

@@ -45,6 +45,7 @@ LIBRARIES: dict[str, tuple[str, ...]] = {
 GENERATED = {
     "rt_schema.h",
     "rt_schema_metadata.h",
+    "rt_schema_axes.h",
     "raytrace_spirv.h",
     "raytrace_f16_spirv.h",
     "raytrace_rgen_spirv.h",

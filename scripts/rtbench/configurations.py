@@ -22,38 +22,42 @@ from rtbench import names
 from rtbench.profiles import (
     AGREEMENT_KEY,
     GENERATED_SCENES,
-    GPU_KEYS,
     OVERRIDE_AXES,
+    OVERRIDE_AXIS_KEYS,
     PRECISIONS_KEY,
     RUN_AXES,
     SIZE_AXIS,
+    TOP_AXES,
     Profile,
     ProfileError,
     Variant,
 )
 
-# The raytracer options of the profile's accels, traversals, hybrid_thresholds, GPU variants and counters.
-ACCEL_FLAG = "--accel"
-TRAVERSAL_FLAG = "--traversal"
-HYBRID_THRESHOLD_FLAG = "--hybrid-threshold"
-GPU_FLAGS = {
-    names.GPU_BVH: "--gpu-bvh",
-    names.GPU_RT_REORDER: "--gpu-rt-reorder",
-}
+# The raytracer options of the run-time axes (the schema's axes[].flag).
+ACCEL_FLAG = names.AXIS_FLAGS[names.ACCEL]
+TRAVERSAL_FLAG = names.AXIS_FLAGS[names.TRAVERSAL]
+HYBRID_THRESHOLD_FLAG = names.AXIS_FLAGS[names.HYBRID_THRESHOLD]
+GPU_FLAGS = {axis: names.AXIS_FLAGS[axis] for axis in names.GPU_AXES}
 # The GPU axes whose values a device may lack while it runs the renderer:
 # hit reordering needs VK_NV_ray_tracing_invocation_reorder, which only some
 # devices offer, so the bench probes each of its values (probe_args).
 PROBED_AXES = (names.GPU_RT_REORDER,)
-COUNTERS_FLAG = "--counters"
+COUNTERS_FLAG = names.AXIS_FLAGS[names.COUNTERS]
 # --precision f16 needs native f16 arithmetic (the CPU's Highway target, or
 # the device's shaderFloat16), which the raytracer refuses without: the bench
 # probes each renderer once more at f16 (probe_args). --agreement adds the
 # image of frame 0 against the double-precision reference to the metadata.
-PRECISION_FLAG = "--precision"
+PRECISION_FLAG = names.AXIS_FLAGS[names.PRECISION]
 AGREEMENT_FLAG = "--agreement"
 # Every axis and the raytracer option it sets: the renderer options of the
 # schema (a renderer takes those its renderers[].options lists), then RUN_AXES.
 RENDERER_AXES = {**names.OPTION_FLAGS, **RUN_AXES}
+# The top-level axes a profile multiplies within each accel, in schema order
+# (traversal, hybrid_threshold, gpu_bvh, gpu_rt_reorder, counters), and the
+# value a configuration has where one does not apply (names.axis_applies):
+# no flag on its command line, an empty column.
+VARIANT_AXES = tuple(axis for axis in TOP_AXES if axis != names.ACCEL)
+NOT_APPLICABLE = {"choice": "", "count": None, "toggle": False}
 
 
 @dataclass(frozen=True)
@@ -85,7 +89,7 @@ class Config:
     @property
     def gpu_axes(self) -> dict[str, str]:
         """The configuration's GPU variants by column (names.GPU_AXES), "" where none applies."""
-        return dict(zip(names.GPU_AXES, (self.gpu_bvh, self.gpu_rt_reorder)))
+        return {axis: getattr(self, axis) for axis in names.GPU_AXES}
 
     @property
     def id(self) -> str:
@@ -108,18 +112,8 @@ class Config:
     def argv(self, binary: Path, csv: Path, meta: Path) -> list[str]:
         """The raytracer command line for one repetition of this configuration."""
         argv = [str(binary), names.RENDERER_FLAGS[self.renderer], self.scene_path, *self.variant.args()]
-        argv += [ACCEL_FLAG, self.accel]
-        if self.traversal:
-            argv += [TRAVERSAL_FLAG, self.traversal]
-        if self.hybrid_threshold is not None:
-            argv += [HYBRID_THRESHOLD_FLAG, str(self.hybrid_threshold)]
-        for axis, value in self.gpu_axes.items():
-            if value:
-                argv += [GPU_FLAGS[axis], value]
-        if self.counters:
-            argv.append(COUNTERS_FLAG)
-        if self.precision:
-            argv += [PRECISION_FLAG, self.precision]
+        for axis in names.AXES:
+            argv += axis_args(axis, getattr(self, axis))
         if self.agreement:
             argv.append(AGREEMENT_FLAG)
         argv += ["--width", str(self.width), "--height", str(self.height)]
@@ -140,12 +134,7 @@ class Config:
             "stage": self.variant.label,
             "algorithm": self.variant.algorithm,
             "early_exits": list(self.variant.early_exits),
-            "accel": self.accel,
-            "traversal": self.traversal,
-            "hybrid_threshold": self.hybrid_threshold,
-            **self.gpu_axes,
-            "counters": self.counters,
-            "precision": self.precision,
+            **{axis: getattr(self, axis) for axis in names.AXES},
             "agreement": self.agreement,
             "width": self.width,
             "height": self.height,
@@ -154,6 +143,15 @@ class Config:
             "axes": dict(self.axes),
             "args": list(self.args),
         }
+
+
+def axis_args(axis: str, value) -> list[str]:
+    """An axis' options on a command line: none where its value is
+    NOT_APPLICABLE (or no precision was named), the flag alone for a toggle
+    that is on, else the flag and the value."""
+    if value is None or value is False or value == "":
+        return []
+    return [names.AXIS_FLAGS[axis]] if value is True else [names.AXIS_FLAGS[axis], str(value)]
 
 
 def axis_items(axis: str, values: list, cpu_count: int) -> list[tuple[str, str]]:
@@ -211,11 +209,8 @@ def expand(
         spec = profile.renderers[renderer]
         axes = [axis for axis in RENDERER_AXES if axis in spec]
         ids = set()  # of this scene, stage, accel and renderer
-        walks = traversals(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
-        gpu = gpu_variants(profile, renderer, names.OWN_ACCEL.get(renderer, accel))
-        for (traversal, threshold), gpu_values, precision, combo in itertools.product(
-            walks,
-            gpu,
+        for variant_axes, precision, combo in itertools.product(
+            axis_variants(profile, renderer, names.OWN_ACCEL.get(renderer, accel)),
             spec.get(PRECISIONS_KEY, [""]),
             itertools.product(*(axis_items(a, spec[a], cpu_count) for a in axes)),
         ):
@@ -231,10 +226,7 @@ def expand(
                 axes=tuple((a, value) for a, (_, value) in zip(axes, combo)),
                 args=(*profile.args, *spec["args"]),
                 accel=names.OWN_ACCEL.get(renderer, accel),
-                traversal=traversal,
-                hybrid_threshold=threshold,
-                **dict(zip(names.GPU_AXES, gpu_values)),
-                counters=profile.counters and names.counts_lanes(renderer),
+                **variant_axes,
                 precision=precision,
                 agreement=spec[AGREEMENT_KEY],
             )
@@ -253,25 +245,27 @@ def expand(
     return configs
 
 
-def traversals(profile: Profile, renderer: str, accel: str) -> list[tuple[str, int | None]]:
-    """(traversal, hybrid threshold) of each configuration a renderer runs at
-    an accel: the profile's traversals where the SIMD kernel walks the BVH
-    (hybrid once per threshold, or once with the kernel's default), else one
-    configuration without a traversal."""
-    if not names.takes_traversal(renderer, accel):
-        return [("", None)]
-    thresholds = profile.hybrid_thresholds or (None,)
-    return [(t, h) for t in profile.traversals for h in (thresholds if t == names.HYBRID else (None,))]
+def axis_variants(profile: Profile, renderer: str, accel: str) -> list[dict]:
+    """The values of the VARIANT_AXES of each configuration a renderer runs
+    at an accel, in schema order: the profile's values of each axis where
+    the configuration has it (names.axis_applies, given the accel and the
+    values chosen before: a hybrid threshold with traversal hybrid only),
+    else NOT_APPLICABLE. A count the profile leaves out runs once with the
+    renderer's own (None); a toggle is the profile's setting."""
+    combos = [{names.ACCEL: accel}]
+    for axis in VARIANT_AXES:
+        combos = [{**c, axis: value} for c in combos for value in _axis_choices(profile, axis, renderer, c)]
+    return [{axis: c[axis] for axis in VARIANT_AXES} for c in combos]
 
 
-def gpu_variants(profile: Profile, renderer: str, accel: str) -> list[tuple[str, ...]]:
-    """The GPU axes' values (names.GPU_AXES: gpu_bvh, gpu_rt_reorder) of each
-    configuration a renderer runs at an accel: the profile's gpu_bvhs for
-    the GPU renderer at accel bvh, its gpu_rt_reorders for gpu_rt
-    (names.gpu_axes_of), else one configuration without them."""
-    has = names.gpu_axes_of(renderer, accel)
-    chosen = {axis: profile.gpu_axis_values(key) for key, axis in GPU_KEYS.items()}
-    return list(itertools.product(*(chosen[axis] if axis in has else ("",) for axis in names.GPU_AXES)))
+def _axis_choices(profile: Profile, axis: str, renderer: str, settings: dict) -> list:
+    kind = names.AXES[axis]["kind"]
+    if not names.axis_applies(axis, renderer, **settings):
+        return [NOT_APPLICABLE[kind]]
+    chosen = profile.axis_values(axis)
+    if kind == "toggle":
+        return [chosen]
+    return list(chosen) or [None]
 
 
 def probe_args(config: dict) -> tuple[str, ...]:
@@ -283,7 +277,7 @@ def probe_args(config: dict) -> tuple[str, ...]:
     args: list[str] = []
     for axis in PROBED_AXES:
         if config.get(axis):
-            args += [GPU_FLAGS[axis], config[axis]]
+            args += [names.AXIS_FLAGS[axis], config[axis]]
     if names.precision_of(config.get("precision")) != names.F32:
         args += [PRECISION_FLAG, config["precision"]]
     return tuple(args)
@@ -330,9 +324,7 @@ def _matches(config: Config, override: dict, written: dict[str, str]) -> bool:
         config.renderer in override.get("renderers", [config.renderer])
         and config.variant.label in override.get("stages", [config.variant.label])
         and config.scene in override.get("scenes", [config.scene])
-        and config.accel in override.get("accels", [config.accel])
-        and (config.traversal in override["traversals"] if "traversals" in override else True)
-        and all(config.gpu_axes[axis] in override[key] for key, axis in GPU_KEYS.items() if key in override)
+        and all(getattr(config, axis) in override[key] for axis, key in OVERRIDE_AXIS_KEYS.items() if key in override)
         and names.precision_of(config.precision) in override.get(PRECISIONS_KEY, [names.precision_of(config.precision)])
         and all(_axis_matches(written, override, axis) for axis in OVERRIDE_AXES)
     )

@@ -157,7 +157,7 @@ def _check_gpu_axes(path: Path, columns: dict[str, list]) -> None:
     it (written before the axis: the loader fills in the default)."""
     for axis, (members, _) in names.GPU_AXIS_VALUES.items():
         _check_members(path, axis, columns[axis], ["", *members])
-        where = names.where_gpu_axis_applies(axis)
+        where = names.where_axis_applies(axis)
         for lineno, (value, renderer, accel) in enumerate(
             zip(columns[axis], columns[names.RENDERER], columns[names.ACCEL]), start=2
         ):

@@ -35,6 +35,33 @@ def _meta_field(*path: str) -> str:
     return path[-1]
 
 
+def _axis(name: str) -> str:
+    """A run-time axis the library needs (the schema's axes); fails if the schema lacks it."""
+    if name not in AXES:
+        raise ImportError(f"rtbench needs axis {name!r}, which schema/rt_schema.json does not define")
+    return name
+
+
+# The run-time axes (the schema's axes: accel, traversal, ..., precision),
+# each declared once there with its option, values, default, the renderers
+# that take it and what it requires of the axes before it; the raytracer's
+# command line applies the same declarations (src/app/cli.cpp). Each axis
+# is its CSV column where it has one, and its key in the metadata's config.
+AXES: dict[str, dict] = schema.axes()
+AXIS_FLAGS: dict[str, str] = {axis: d["flag"] for axis, d in AXES.items()}
+# Each renderer's backend; "cpu" is the schema's backend of the renderers
+# that run on the CPU, the others render on a Vulkan device.
+BACKENDS: dict[str, str] = {name: r["backend"] for name, r in schema.renderers().items()}
+CPU_BACKEND = "cpu"
+# The axes of the GPU renderers: those that only renderers on a Vulkan
+# device take (the compute renderer's walk, gpu_rt's reorder), in schema
+# order, each a CSV column. Labels, tables and the loader treat them alike.
+GPU_AXES: list[str] = [
+    _column(axis)
+    for axis, d in AXES.items()
+    if d["renderers"] and all(BACKENDS[r] != CPU_BACKEND for r in d["renderers"])
+]
+
 # Frame CSV columns with a role in the statistics.
 RUN_ID = _column("run_id")
 SCENE = _column("scene")
@@ -47,16 +74,17 @@ PARTITION = _column("partition")
 DEVICE = _column("device")
 ALGORITHM = _column("algorithm")
 EARLY_EXIT = _column("early_exit")
-ACCEL = _column("accel")
-TRAVERSAL = _column("traversal")
-HYBRID_THRESHOLD = _column("hybrid_threshold")
+ACCEL = _axis(_column("accel"))
+TRAVERSAL = _axis(_column("traversal"))
+HYBRID_THRESHOLD = _axis(_column("hybrid_threshold"))
 # The GPU renderer's walk of the BVH (the schema's gpu_bvhs).
-GPU_BVH = _column("gpu_bvh")
+GPU_BVH = _axis(_column("gpu_bvh"))
+assert GPU_BVH in GPU_AXES, "schema/rt_schema.json: axes gpu_bvh"
 # The ray-tracing-pipeline renderer's (gpu_rt) one variant: whether it
 # reorders hits before shading (the schema's gpu_rt_reorders). It is a GPU
-# axis like the one above, of another renderer (GPU_AXIS_RENDERER).
-GPU_RT_REORDER = _column("gpu_rt_reorder")
-GPU_AXES = [GPU_BVH, GPU_RT_REORDER]
+# axis like the one above, of another renderer (GPU_AXES).
+GPU_RT_REORDER = _axis(_column("gpu_rt_reorder"))
+assert GPU_RT_REORDER in GPU_AXES, "schema/rt_schema.json: axes gpu_rt_reorder"
 # The GPU renderer's schedule and path: axes once, of one value each since
 # their other variants were retired (the schema's retired_gpu_variants;
 # RETIRED_GPU_AXES). The CSV keeps both columns, which read that value for
@@ -66,7 +94,7 @@ GPU_PATH = _column("gpu_path")
 # The floating-point type of the render model's arithmetic (the schema's
 # precisions): f32 unless the run used --precision f16, the thesis' half-
 # precision experiment. A CSV written before the column lacks it: f32.
-PRECISION = _column("precision")
+PRECISION = _axis(_column("precision"))
 WIDTH = _column("width")
 HEIGHT = _column("height")
 FRAME = _column("frame")
@@ -130,6 +158,8 @@ META_DEVICE_API_VERSION = _meta_field(META_DEVICE, "api_version")
 # --agreement: how far the run's image of frame 0 is from the double-precision
 # reference (docs/render-model.md section 8); null without it.
 META_AGREEMENT = _meta_key("agreement")
+# --counters: the axis that turns the counter columns on (metadata config.counters).
+COUNTERS = _axis(_meta_field(META_CONFIG, "counters"))
 
 # Columns the loader adds to the schema's columns (not in the CSV files);
 # those taken from the metadata are named as its keys.
@@ -204,10 +234,6 @@ OWN_ACCEL: dict[str, str] = {r: row["own_accel"] for r, row in schema.renderers(
 LANE_WIDTHS: list[int] = schema.lane_widths()
 PARTITIONS: list[str] = list(schema.schema()["partitions"])
 PRESENT_MODES: list[str] = schema.present_modes()
-# Each renderer's backend; "cpu" is the schema's backend of the renderers
-# that run on the CPU, the others render on a Vulkan device.
-BACKENDS: dict[str, str] = {name: r["backend"] for name, r in schema.renderers().items()}
-CPU_BACKEND = "cpu"
 STAGES: dict[str, dict] = schema.stages()
 ALGORITHMS: list[str] = list(schema.schema()["algorithms"])
 EARLY_EXITS: list[str] = list(schema.schema()["early_exits"])
@@ -222,7 +248,7 @@ RUN_ACCELS: list[str] = [a for a in ACCELS if a != AUTO_ACCEL]
 TRAVERSALS: list[str] = [t["name"] for t in schema.schema()["traversals"]]
 # --gpu-bvh auto: the binary probes the walks and its CSV names the one it
 # kept; a profile names the walks it measures.
-AUTO_GPU_BVH = "auto"
+AUTO_GPU_BVH = AUTO_ACCEL
 assert AUTO_GPU_BVH in [b["name"] for b in schema.schema()["gpu_bvhs"]], "schema/rt_schema.json: gpu_bvhs"
 GPU_BVHS: list[str] = [b["name"] for b in schema.schema()["gpu_bvhs"] if b["name"] != AUTO_GPU_BVH]
 GPU_RT_REORDERS: list[str] = [r["name"] for r in schema.schema()["gpu_rt_reorders"]]
@@ -241,11 +267,9 @@ def _member(name: str, key: str, members: list[str]) -> str:
 
 # The SIMD kernel walks a BVH in one of the traversals; packets unless told
 # otherwise (the only way before the traversal axis). Hybrid takes a threshold.
-SIMD_KERNEL = _member("simd", "kernels", [k["name"] for k in schema.schema()["kernels"]])
 BVH = _member("bvh", "accels", ACCELS)
 PACKET = _member("packet", "traversals", TRAVERSALS)
 HYBRID = _member("hybrid", "traversals", TRAVERSALS)
-KERNELS: dict[str, str | None] = {name: r["kernel"] for name, r in schema.renderers().items()}
 # The GPU renderer (--gpu) and its walk as it ran before the GPU axes
 # (binary BVH): the default, which labels leave unsaid and the loader gives
 # older CSVs.
@@ -279,15 +303,56 @@ PEERS: list[str] = [EMBREE_RENDERER, GPU_RT_RENDERER]
 # before the precision axis ran in), and the thesis' half precision.
 F32 = _member("f32", "precisions", PRECISIONS)
 F16 = _member("f16", "precisions", PRECISIONS)
+
+
+def run_values(axis: str) -> list[str]:
+    """The values of a choice axis that a run records, in schema order: all
+    but auto, which the binary settles at run time (accel, gpu_bvh: its CSV
+    names what it settled on) and a profile cannot measure as such."""
+    return [v for v in AXES[axis]["values"] if v != AUTO_ACCEL]
+
+
+def axis_renderers(axis: str) -> list[str]:
+    """The renderers that take an axis (the schema's axes[].renderers), in schema order."""
+    return [r for r in RENDERERS if r in AXES[axis]["renderers"]]
+
+
+def takes_axis(renderer: str, axis: str) -> bool:
+    """Whether `renderer` takes the axis (with default_for_all: a value
+    besides the default, which every renderer has)."""
+    return renderer in AXES[axis]["renderers"]
+
+
+def axis_applies(axis: str, renderer: str, **settings) -> bool:
+    """Whether a configuration has the axis: its renderer takes it and
+    `settings` (the values of the axes it requires, e.g. accel="bvh") hold
+    what the axis requires (the schema's axes[].requires)."""
+    required = AXES[axis]["requires"].items()
+    return takes_axis(renderer, axis) and all(settings.get(on) in allowed for on, allowed in required)
+
+
+def axis_takers(axis: str) -> str:
+    """The renderers that take an axis, in words for error messages: "the
+    gpu renderer", "the simd_tbb, simd_only and gpu renderers"."""
+    takers = axis_renderers(axis)
+    if len(takers) == 1:
+        return f"the {takers[0]} renderer"
+    return f"the {', '.join(takers[:-1])} and {takers[-1]} renderers"
+
+
+def where_axis_applies(axis: str) -> str:
+    """Which configurations have an axis, in words for error messages: "the
+    gpu renderer with accel bvh" (the values a run records of each axis it
+    requires)."""
+    required = AXES[axis]["requires"].items()
+    return axis_takers(axis) + "".join(
+        f" with {on} {' or '.join(v for v in run_values(on) if v in allowed)}" for on, allowed in required
+    )
+
+
 # Each GPU axis: (its values in schema order, its default).
 GPU_AXIS_VALUES: dict[str, tuple[list[str], str]] = {
-    GPU_BVH: (GPU_BVHS, BINARY),
-    GPU_RT_REORDER: (GPU_RT_REORDERS, NO_REORDER),
-}
-# The renderer each GPU axis belongs to; the others leave its column empty.
-GPU_AXIS_RENDERER: dict[str, str] = {
-    GPU_BVH: GPU_RENDERER,
-    GPU_RT_REORDER: GPU_RT_RENDERER,
+    axis: (run_values(axis), AXES[axis]["default"]) for axis in GPU_AXES
 }
 
 
@@ -308,22 +373,17 @@ def accepts(renderer: str, option: str) -> bool:
     return option in RENDERER_OPTIONS.get(renderer, [])
 
 
-def runs_simd_kernel(renderer: str) -> bool:
-    """Whether `renderer` runs the SIMD kernel (the one with traversals)."""
-    return KERNELS.get(renderer) == SIMD_KERNEL
-
-
 def counts_lanes(renderer: str) -> bool:
-    """Whether `renderer` takes --counters: the SIMD kernel's renderers and
-    the GPU renderer (which counts per subgroup)."""
-    return runs_simd_kernel(renderer) or renderer == GPU_RENDERER
+    """Whether `renderer` takes --counters (the schema's axes: the SIMD
+    kernel's renderers and the GPU renderer, which counts per subgroup)."""
+    return takes_axis(renderer, COUNTERS)
 
 
 def takes_precision(renderer: str) -> bool:
-    """Whether `renderer` takes --precision f16 (the schema's precisions: the
-    SIMD kernel's renderers and the GPU renderer; the raytracer refuses it
-    for the others)."""
-    return runs_simd_kernel(renderer) or renderer == GPU_RENDERER
+    """Whether `renderer` takes --precision f16 (the schema's axes: the SIMD
+    kernel's renderers and the GPU renderer; the raytracer refuses it for
+    the others, which compute in f32 only)."""
+    return takes_axis(renderer, PRECISION)
 
 
 def precision_of(value) -> str:
@@ -341,18 +401,13 @@ def at_f32(df):
 
 def takes_traversal(renderer: str, accel: str) -> bool:
     """Whether a configuration has a traversal: the SIMD kernel walking the BVH."""
-    return runs_simd_kernel(renderer) and accel == BVH
+    return axis_applies(TRAVERSAL, renderer, accel=accel)
 
 
 def gpu_axes_of(renderer: str, accel: str) -> list[str]:
     """The GPU axes a configuration has: the GPU renderer's BVH with accel
     bvh only; gpu_rt's reorder; none for the other renderers."""
-    return [axis for axis in GPU_AXES if GPU_AXIS_RENDERER[axis] == renderer and (axis != GPU_BVH or accel == BVH)]
-
-
-def where_gpu_axis_applies(axis: str) -> str:
-    """Which configurations have a GPU axis, in words for error messages."""
-    return f"the {GPU_AXIS_RENDERER[axis]} renderer" + (f" with accel {BVH}" if axis == GPU_BVH else "")
+    return [axis for axis in GPU_AXES if axis_applies(axis, renderer, accel=accel)]
 
 
 # How a label shows a GPU axis' value that is not the default: the compute
@@ -361,11 +416,12 @@ def where_gpu_axis_applies(axis: str) -> str:
 GPU_TAG_FORMATS: dict[str, str] = {GPU_RT_REORDER: "{}-reorder"}
 
 
-def gpu_tag(gpu_bvh="", gpu_rt_reorder="") -> list[str]:
-    """The GPU variants that are not the defaults (which labels leave unsaid,
-    as before the GPU axes), in axis order: [], ["wide"], ["hit-reorder"].
-    Each tag says its axis."""
-    values = dict(zip(GPU_AXES, (gpu_bvh, gpu_rt_reorder)))
+def gpu_tag(*gpu_values) -> list[str]:
+    """The GPU variants (the values of the GPU_AXES, in their order; a
+    missing one is none) that are not the defaults (which labels leave
+    unsaid, as before the GPU axes), in axis order: [], ["wide"],
+    ["hit-reorder"]. Each tag says its axis."""
+    values = dict(zip(GPU_AXES, gpu_values))
     return [
         GPU_TAG_FORMATS.get(axis, "{}").format(v)
         for axis, v in values.items()

@@ -3,11 +3,9 @@ profiles/README.md), read and checked; rtbench.configurations expands them
 into configurations and a schedule.
 
 A profile names scenes, stages (or explicit algorithm / early-exit sets),
-accels (how a ray finds its nearest sphere: the schema's accels),
-traversals (how the SIMD kernel walks the BVH: the schema's traversals),
-the GPU renderer's walks (gpu_bvhs: the schema's list of them), the gpu_rt
-renderer's hit reordering (gpu_rt_reorders) and whether the counting
-renderers count their lane work (counters), renderers with
+the values of the run-time axes (the schema's axes, each under its profile
+key: accels, traversals, hybrid_thresholds, gpu_bvhs, gpu_rt_reorders and
+counters; their rules read from the axes' declarations), renderers with
 their own axes (the renderer options the schema gives each, of threads,
 lanes, grain and partition; and device, present), their precisions and
 agreement check (precisions, agreement), the image
@@ -102,9 +100,11 @@ class Profile:
     architecture: str = ""
     raw: dict = field(default_factory=dict, compare=False)
 
-    def gpu_axis_values(self, key: str) -> tuple[str, ...]:
-        """The values a GPU key (GPU_KEYS: gpu_bvhs, ..., gpu_rt_reorders) names."""
-        return getattr(self, key)
+    def axis_values(self, axis: str):
+        """What the profile names for a top-level axis (TOP_AXES), under its
+        profile_key: a tuple of values (empty: the renderer's own, for a
+        count), or true or false for a toggle."""
+        return getattr(self, profile_key(axis))
 
 
 # --- reading -----------------------------------------------------------------
@@ -141,8 +141,8 @@ def parse_profile(raw: dict, path: Path) -> Profile:
     variants = tuple(_variant(entry, path, i) for i, entry in enumerate(values["stages"]))
     renderers = _renderers(values["renderers"], path)
     overrides = tuple(_override(o, path, i, variants) for i, o in enumerate(values["overrides"]))
-    _check_traversal_keys(values, renderers, path)
-    _check_gpu_keys(values, renderers, path)
+    for axis in TOP_AXES:
+        _check_axis_key(axis, values, renderers, path)
     return Profile(
         name=path.stem,
         path=path,
@@ -150,7 +150,6 @@ def parse_profile(raw: dict, path: Path) -> Profile:
         preset=values["preset"],
         scenes=tuple(values["scenes"]),
         variants=variants,
-        accels=tuple(values["accels"]),
         renderers=renderers,
         width=values["width"],
         height=values["height"],
@@ -163,12 +162,8 @@ def parse_profile(raw: dict, path: Path) -> Profile:
         timeout_s=float(values["timeout_s"]),
         overrides=overrides,
         raw=raw,
-        traversals=tuple(values["traversals"]),
-        hybrid_thresholds=tuple(values.get("hybrid_thresholds", ())),
-        gpu_bvhs=tuple(values["gpu_bvhs"]),
-        gpu_rt_reorders=tuple(values["gpu_rt_reorders"]),
-        counters=values["counters"],
         architecture=values["architecture"],
+        **{profile_key(axis): _axis_setting(values, axis) for axis in TOP_AXES},
     )
 
 
@@ -207,26 +202,49 @@ KINDS = {  # kind -> (description, test)
     "stage": ("a stage name or a table {algorithm = ..., early_exits = [...]}", _plain(str, dict)),
 }
 
-# The profile keys of the GPU renderers' variants -> the CSV column (names.GPU_AXES) each sets.
-GPU_KEYS = {
-    "gpu_bvhs": names.GPU_BVH,
-    "gpu_rt_reorders": names.GPU_RT_REORDER,
-}
+
+# --- the run-time axes (the schema's axes) -----------------------------------
+
+# The axes that a [renderers.NAME] table names (precisions: some renderers
+# compute in f16, each table says which of its precisions it runs); every
+# other axis is a top-level key.
+RENDERER_TABLE_AXES = (names.PRECISION,)
+TOP_AXES = tuple(axis for axis in names.AXES if axis not in RENDERER_TABLE_AXES)
+
+
+def profile_key(axis: str) -> str:
+    """An axis' profile key: the schema list of a choice's values (accels,
+    gpu_bvhs), a count's name plus 's' (hybrid_thresholds), a toggle's name (counters)."""
+    declaration = names.AXES[axis]
+    return {"choice": declaration["list"], "count": f"{axis}s"}.get(declaration["kind"], axis)
+
+
+def axis_rule(axis: str) -> Rule:
+    """What an axis' profile key holds, from its declaration: a list of the
+    values a run records (names.run_values; default: the axis' default), a
+    list of counts of at least its minimum (absent: the renderer's own), or
+    true or false (default: the axis' default)."""
+    declaration = names.AXES[axis]
+    if declaration["kind"] == "toggle":
+        return Rule("bool", declaration["default"])
+    if declaration["kind"] == "count":
+        return Rule("int", OPTIONAL, shape="list", minimum=declaration["minimum"])
+    default = OPTIONAL if axis in RENDERER_TABLE_AXES else [declaration["default"]]
+    return Rule("str", default, shape="list", choices=tuple(names.run_values(axis)))
+
+
+def _axis_setting(values: dict, axis: str):
+    """A top-level axis' value in a Profile: a tuple (empty where an optional key is absent) or a bool."""
+    value = values.get(profile_key(axis), ())
+    return value if isinstance(value, bool) else tuple(value)
+
 
 TOP_RULES = {
     "description": Rule("str"),
     "preset": Rule("str", "release"),
     "scenes": Rule("str", shape="list"),
     "stages": Rule("stage", shape="list"),
-    "accels": Rule("str", [names.BRUTE_FORCE], shape="list", choices=tuple(names.RUN_ACCELS)),
-    "traversals": Rule("str", [names.PACKET], shape="list", choices=tuple(names.TRAVERSALS)),
-    # --hybrid-threshold: lanes; 0 would mean the kernel's default, which leaving the key out says.
-    "hybrid_thresholds": Rule("int", OPTIONAL, shape="list", minimum=1),
-    # The GPU renderer's walk: --gpu-bvh (accel bvh only).
-    "gpu_bvhs": Rule("str", [names.BINARY], shape="list", choices=tuple(names.GPU_BVHS)),
-    # The gpu_rt renderer's variant: --gpu-rt-reorder.
-    "gpu_rt_reorders": Rule("str", [names.NO_REORDER], shape="list", choices=tuple(names.GPU_RT_REORDERS)),
-    "counters": Rule("bool", False),
+    **{profile_key(axis): axis_rule(axis) for axis in TOP_AXES},
     "architecture": Rule("str", "", choices=("", "x86_64", "aarch64")),
     "width": Rule("int", 800, minimum=1),
     "height": Rule("int", 600, minimum=1),
@@ -248,23 +266,22 @@ STAGE_RULES = {
 # `precisions` runs the renderer once per precision with --precision (the
 # thesis' half-precision experiment; only the renderers that take it, names.takes_precision);
 # `agreement` adds --agreement, the image of frame 0 against the double-precision reference.
-PRECISIONS_KEY = "precisions"
+PRECISIONS_KEY = profile_key(names.PRECISION)
 AGREEMENT_KEY = "agreement"
 RENDERER_EXTRA_RULES = {
-    PRECISIONS_KEY: Rule("str", OPTIONAL, shape="list", choices=tuple(names.PRECISIONS)),
+    PRECISIONS_KEY: axis_rule(names.PRECISION),
     AGREEMENT_KEY: Rule("bool", False),
     "args": Rule("str", [], shape="list"),
 }
+# The top-level choice axes an override can match on, by profile key: a
+# configuration without such an axis (names.axis_applies) never matches its values.
+OVERRIDE_AXIS_KEYS = {axis: profile_key(axis) for axis in TOP_AXES if names.AXES[axis]["kind"] == "choice"}
 # [[overrides]]: which configurations a table matches, and what it sets there.
 OVERRIDE_RULES = {
     "renderers": Rule("str", OPTIONAL, shape="list", choices=tuple(names.RENDERERS)),
     "stages": Rule("str", OPTIONAL, shape="list"),
     "scenes": Rule("str", OPTIONAL, shape="list"),
-    "accels": replace(TOP_RULES["accels"], default=OPTIONAL),
-    # A configuration without a traversal (names.takes_traversal) never matches them.
-    "traversals": replace(TOP_RULES["traversals"], default=OPTIONAL),
-    # Likewise a configuration without that GPU axis (names.gpu_axes_of) never matches them.
-    **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in GPU_KEYS},
+    **{key: replace(TOP_RULES[key], default=OPTIONAL) for key in OVERRIDE_AXIS_KEYS.values()},
     # A configuration's precision: f32 where its renderer table names no precisions.
     PRECISIONS_KEY: replace(RENDERER_EXTRA_RULES[PRECISIONS_KEY], default=OPTIONAL),
     # Axis values of the configuration as the profile writes them (a number
@@ -421,51 +438,23 @@ def _check_precisions(spec: dict, renderer: str, path: Path, where: str) -> None
         raise ProfileError(f"{path}: {where}{PRECISIONS_KEY} must name each precision once, not {chosen!r}")
 
 
-def _check_traversal_keys(values: dict, renderers: dict, path: Path) -> None:
-    """traversals, hybrid_thresholds and counters must reach a configuration:
-    the SIMD kernel's renderers (with accel bvh for a traversal)."""
-    if len(set(values["traversals"])) != len(values["traversals"]):
-        raise ProfileError(f"{path}: traversals names a traversal twice: {values['traversals']!r}")
-    if len(set(values.get("hybrid_thresholds", []))) != len(values.get("hybrid_thresholds", [])):
-        raise ProfileError(f"{path}: hybrid_thresholds names a threshold twice: {values['hybrid_thresholds']!r}")
-    simd = [r for r in renderers if names.runs_simd_kernel(r)]
-    kernel_renderers = ", ".join(r for r in names.RENDERERS if names.runs_simd_kernel(r))
-    kernel = f"the renderers of the {names.SIMD_KERNEL} kernel ({kernel_renderers})"
-    if values["traversals"] != [names.PACKET] and not (simd and names.BVH in values["accels"]):
-        raise ProfileError(
-            f"{path}: traversals: a traversal applies to {kernel} with accel {names.BVH} only, and this "
-            f"profile has {'no such renderer' if not simd else f'no accel {names.BVH}'}"
-        )
-    if "hybrid_thresholds" in values and names.HYBRID not in values["traversals"]:
-        raise ProfileError(f"{path}: hybrid_thresholds: applies to traversal {names.HYBRID}, which traversals lacks")
-    counting = ", ".join(r for r in names.RENDERERS if names.counts_lanes(r))
-    if values["counters"] and not any(names.counts_lanes(r) for r in renderers):
-        raise ProfileError(
-            f"{path}: counters: only the renderers that count ({counting}) take it, and this profile runs none of them"
-        )
-
-
-def _check_gpu_keys(values: dict, renderers: dict, path: Path) -> None:
-    """gpu_bvhs and gpu_rt_reorders name each variant once and, where they
-    ask for more than the default, reach a
-    configuration: the renderer of the axis (names.GPU_AXIS_RENDERER: gpu, or
-    gpu_rt for gpu_rt_reorders), with accel bvh for gpu_bvhs."""
-    for key, axis in GPU_KEYS.items():
-        chosen, default = values[key], names.GPU_AXIS_VALUES[axis][1]
-        renderer = names.GPU_AXIS_RENDERER[axis]
-        if len(set(chosen)) != len(chosen):
-            raise ProfileError(f"{path}: {key} names a value twice: {chosen!r}")
-        if chosen == [default]:
-            continue
-        if renderer not in renderers:
-            raise ProfileError(
-                f"{path}: {key}: applies to the {renderer} renderer only, which this profile does not run"
-            )
-        if axis == names.GPU_BVH and names.BVH not in values["accels"]:
-            raise ProfileError(
-                f"{path}: {key}: applies to the {renderer} renderer with accel {names.BVH} only, "
-                f"and this profile has no accel {names.BVH}"
-            )
+def _check_axis_key(axis: str, values: dict, renderers: dict, path: Path) -> None:
+    """A top-level axis' key names each value once and, where it asks for
+    more than the axis' default, reaches a configuration: a renderer of the
+    profile that takes the axis, and for each axis it requires (the schema's
+    axes[].requires) one of the values it needs among the profile's."""
+    key, chosen = profile_key(axis), values.get(profile_key(axis))
+    if isinstance(chosen, list) and len(set(chosen)) != len(chosen):
+        raise ProfileError(f"{path}: {key} names a value twice: {chosen!r}")
+    if chosen in (None, [names.AXES[axis]["default"]], names.AXES[axis]["default"]):
+        return
+    if not any(names.takes_axis(r, axis) for r in renderers):
+        raise ProfileError(f"{path}: {key}: applies to {names.axis_takers(axis)} only, which this profile does not run")
+    for on, allowed in names.AXES[axis]["requires"].items():
+        if not set(values[profile_key(on)]) & set(allowed):
+            needed = f"{on} {' or '.join(v for v in names.run_values(on) if v in allowed)}"
+            where = names.where_axis_applies(axis)
+            raise ProfileError(f"{path}: {key}: applies to {where} only, and this profile has no {needed}")
 
 
 def _override(entry: dict, path: Path, index: int, variants: tuple[Variant, ...]) -> dict:

@@ -48,6 +48,27 @@ def accepted_options(renderer: str) -> list[str]:
     return list(renderers()[renderer]["options"])
 
 
+def axes() -> dict[str, dict]:
+    """Each run-time axis (the schema's axes) by name, in schema order, as
+    declared, with its values as names ([] for a count or a toggle; 'list':
+    the name of the schema list holding them, or None), the renderers that
+    take it (every renderer where the entry lists none), and an empty
+    'requires' and 'default_when', a false 'default_for_all' where it has none."""
+    result: dict[str, dict] = {}
+    for entry in schema()["axes"]:
+        choice = entry["kind"] == "choice"
+        result[entry["name"]] = {
+            **entry,
+            "list": entry["values"] if choice else None,
+            "values": _names(entry["values"]) if choice else [],
+            "renderers": list(entry.get("renderers", renderer_names())),
+            "requires": dict(entry.get("requires", {})),
+            "default_when": list(entry.get("default_when", [])),
+            "default_for_all": bool(entry.get("default_for_all", False)),
+        }
+    return result
+
+
 def retired_gpu_axes() -> dict[str, tuple[str, list[str]]]:
     """Each GPU axis whose variants were retired (retired_gpu_variants), by
     its CSV column: the one value it reads now (the first of its 'values'

@@ -615,7 +615,7 @@ def gpu_variants(variants: pd.DataFrame) -> Table:
     Where gpu_rt ran, its rows stand beside the gpu renderer's, with the
     renderer and reorder columns and gpu_rt's speedup over the gpu renderer."""
     with_rt = bool((variants[names.RENDERER] == names.GPU_RT_RENDERER).any())
-    compute_axes = [axis for axis in names.GPU_AXES if names.GPU_AXIS_RENDERER[axis] == names.GPU_RENDERER]
+    compute_axes = [axis for axis in names.GPU_AXES if names.takes_axis(names.GPU_RENDERER, axis)]
     axes = names.GPU_AXES if with_rt else compute_axes
     rows = []
     for r in variants.itertuples(index=False):

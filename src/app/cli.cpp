@@ -5,10 +5,12 @@
 #include <array>
 #include <charconv>
 #include <concepts>
+#include <ranges>
 #include <sstream>
 #include <utility>
 
 #include "app/build_info.h"
+#include "app/render_axes.h"
 
 namespace rt {
 namespace {
@@ -20,8 +22,8 @@ std::optional<Enum> enumByName(const std::array<std::string_view, N>& names, std
   return static_cast<Enum>(it - names.begin());
 }
 
-template <std::size_t N>
-std::string joinNames(const std::array<std::string_view, N>& names, std::string_view separator) {
+template <std::ranges::input_range Names>
+std::string joinNames(const Names& names, std::string_view separator) {
   std::string joined;
   for (auto n : names) joined += (joined.empty() ? "" : std::string(separator)) + std::string(n);
   return joined;
@@ -60,17 +62,21 @@ SaveFrameRequest parseSaveFrame(const std::string& text) {
 // The CLI options of the renderer options, in schema order; null until added.
 using RendererOptionSlots = std::array<CLI::Option*, schema::kRendererOptionNames.size()>;
 
+// One axis of the schema (schema: axes) as the command line gives it: a
+// choice's name, a count or a toggle, by its kind; `option` says whether it was given.
+struct AxisInput {
+  std::string choice;
+  int count = 0;
+  bool toggle = false;
+  CLI::Option* option = nullptr;
+};
+
 // What CLI11 parses into text first; converted and checked after parsing.
 struct RawOptions {
   std::array<bool, schema::kRendererKindNames.size()> rendererFlags{};
   std::string scene;
-  std::string algorithm, earlyExit, stage, accel;
-  std::string traversal;
-  int hybridThreshold = RenderOptions::kDefaultHybridThreshold;
-  CLI::Option* hybridThresholdOption = nullptr;
-  bool counters = false;
-  std::string gpuBvh, gpuRtReorder;
-  std::string precision;
+  std::string algorithm, earlyExit, stage;
+  std::array<AxisInput, schema::kAxisDefinitions.size()> axes{};
   std::string lanes = "native";
   std::string partition;
   std::string csv, meta, present;
@@ -88,12 +94,12 @@ std::vector<std::string> namesOf(const std::array<std::string_view, N>& names) {
   return {names.begin(), names.end()};
 }
 
-// Flags of the renderers whose schema row satisfies `chosen` ("--simd and --tbb-only").
-template <std::predicate<const schema::RendererDefinition&> Chosen>
+// Flags of the renderers that satisfy `chosen` ("--simd and --tbb-only").
+template <std::predicate<RendererKind> Chosen>
 std::string flagsOf(Chosen chosen) {
   std::vector<std::string> flags;
-  for (const auto& d : schema::kRendererDefinitions) {
-    if (chosen(d)) flags.emplace_back(d.flag);
+  for (std::size_t i = 0; i < schema::kRendererDefinitions.size(); ++i) {
+    if (chosen(static_cast<RendererKind>(i))) flags.emplace_back(schema::kRendererDefinitions[i].flag);
   }
   std::string text;
   for (std::size_t i = 0; i < flags.size(); ++i) {
@@ -103,32 +109,13 @@ std::string flagsOf(Chosen chosen) {
 }
 
 std::string flagsAccepting(RendererOption option) {
-  return flagsOf([option](const schema::RendererDefinition& d) { return d.accepts(option); });
+  return flagsOf([option](RendererKind kind) { return definitionOf(kind).accepts(option); });
 }
 
-// The renderers of the SIMD kernel: the only ones with a traversal axis.
-bool hasSimdKernel(RendererKind kind) { return definitionOf(kind).kernel == Kernel::simd; }
-
-std::string simdKernelFlags() {
-  return flagsOf([](const schema::RendererDefinition& d) { return d.kernel == Kernel::simd; });
+// The flags of the renderers that take an axis ("--simd and --simd-only").
+std::string flagsTaking(const AxisDefinition& axis) {
+  return flagsOf([&axis](RendererKind kind) { return axis.takenBy(kind); });
 }
-
-// The renderers that fill Renderer::lastCounters(): the SIMD kernel's and
-// the GPU renderer (schema frame_csv: the counter columns say what each counts).
-bool counts(const schema::RendererDefinition& d) {
-  return d.kernel == Kernel::simd || &d == &definitionOf(RendererKind::gpu);
-}
-
-std::string countingFlags() { return flagsOf(counts); }
-
-std::string gpuFlag() { return std::string(definitionOf(RendererKind::gpu).flag); }
-
-// The renderers of the thesis' half-precision experiment (docs/render-model.md
-// section 10): the SIMD kernel's and the GPU renderer.
-bool computesInHalf(const schema::RendererDefinition& d) {
-  return d.kernel == Kernel::simd || &d == &definitionOf(RendererKind::gpu);
-}
-std::string gpuRtFlag() { return std::string(definitionOf(RendererKind::gpu_rt).flag); }
 
 // The renderer options only mean something to the renderers whose schema
 // row lists them; a run that recorded a setting its renderer ignored would
@@ -181,43 +168,101 @@ void addModelOptions(CLI::App& app, RawOptions& raw) {
                         ->check(CLI::IsMember(namesOf(schema::kAlgorithmNames)));
   auto* exits = app.add_option("--early-exit", raw.earlyExit,
                                "none|all|comma list of " + joinNames(schema::kEarlyExitNames, ","));
-  app.add_option("--accel", raw.accel,
-                 "how a ray finds its nearest sphere: none (brute force, default)|bvh|auto (the BVH where its "
-                 "estimated cost is under half of brute force's; the CSV records which ran)")
-      ->check(CLI::IsMember(namesOf(schema::kAccelNames)));
   app.add_option("--stage", raw.stage, "the thesis' stages: original|single-pass|optimized (default)")
       ->check(CLI::IsMember(namesOf(schema::kStageNames)))
       ->excludes(algorithm)
       ->excludes(exits);
 }
 
-// A count that must be at least 1; CLI11's PositiveNumber would name a double's range.
-CLI::Validator positiveInteger() {
-  return {[](const std::string& text) {
+// A count of at least `minimum`; CLI11's PositiveNumber would name a double's range.
+CLI::Validator integerAtLeast(int minimum) {
+  const std::string expected = minimum == 1 ? "a positive integer" : "an integer >= " + std::to_string(minimum);
+  return {[minimum, expected](const std::string& text) {
             int value = 0;
             const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-            if (ec == std::errc() && end == text.data() + text.size() && value >= 1) return std::string();
-            return "expected a positive integer, got '" + text + "'";
+            if (ec == std::errc() && end == text.data() + text.size() && value >= minimum) return std::string();
+            return "expected " + expected + ", got '" + text + "'";
           },
-          "POSITIVE"};
+          "N"};
 }
 
-void addTraversalOptions(CLI::App& app, RawOptions& raw) {
-  app.add_option("--traversal", raw.traversal,
-                 "how the SIMD kernel walks the BVH (" + simdKernelFlags() +
-                     ", with --accel bvh): " + joinNames(schema::kTraversalNames, "|") + " (default " +
-                     std::string(nameOf(RenderOptions{}.traversal)) + ")")
-      ->check(CLI::IsMember(namesOf(schema::kTraversalNames)));
-  raw.hybridThresholdOption =
-      app.add_option("--hybrid-threshold", raw.hybridThreshold,
-                     "with --traversal hybrid: a packet goes on as single rays where at most N of its lanes reach a "
-                     "node (default: the kernel's, for its packet width)")
-          ->check(positiveInteger())
-          ->default_str("the kernel's");
-  app.add_flag("--counters", raw.counters,
-               countingFlags() +
-                   ": count rays per bounce depth, BVH node visits, sphere tests and lane occupancy per frame (CSV "
-                   "columns, metadata lane_counters)");
+// The names of an axis' values in `mask` (bits over its values): "bvh or auto".
+std::string valuesIn(const AxisDefinition& d, unsigned mask, std::string_view separator) {
+  std::vector<std::string_view> chosen;
+  for (std::size_t i = 0; i < d.values.size(); ++i) {
+    if (((mask >> i) & 1u) != 0) chosen.push_back(d.values[i]);
+  }
+  return joinNames(chosen, separator);
+}
+
+// A value of an axis in words: a choice's name, a count's number, nothing for a toggle.
+std::string valueText(Axis axis, int value) {
+  const auto& d = definitionOf(axis);
+  if (d.kind == AxisKind::choice) return std::string(d.values[static_cast<std::size_t>(value)]);
+  return d.kind == AxisKind::count ? std::to_string(value) : std::string();
+}
+
+// The axis with a value as a command line gives it: "--traversal single", "--counters".
+std::string givenText(Axis axis, int value) {
+  const std::string text = valueText(axis, value);
+  return std::string(definitionOf(axis).flag) + (text.empty() ? "" : " " + text);
+}
+
+bool takenByEveryRenderer(const AxisDefinition& d) {
+  for (std::size_t i = 0; i < schema::kRendererDefinitions.size(); ++i) {
+    if (!d.takenBy(static_cast<RendererKind>(i))) return false;
+  }
+  return true;
+}
+
+// Where an axis applies, for --help: "; for --simd and --simd-only, with --accel bvh|auto".
+std::string axisScope(Axis axis) {
+  const auto& d = definitionOf(axis);
+  std::string scope;
+  if (!takenByEveryRenderer(d)) {
+    const std::string values = d.defaultForAll ? valuesIn(d, ~(1u << d.defaultValue), "|") + " " : "";
+    scope = "; " + values + "for " + flagsTaking(d);
+  }
+  for (const auto& r : schema::kAxisRequirements) {
+    if (r.axis != axis) continue;
+    const auto& on = definitionOf(r.on);
+    scope += ", with " + std::string(on.flag) + " " + valuesIn(on, r.valueMask, "|");
+  }
+  return scope;
+}
+
+// An axis' --help text from its declaration: its values, what it does, its
+// default (and those that another axis' value sets), where it applies.
+std::string axisHelp(Axis axis) {
+  const auto& d = definitionOf(axis);
+  if (d.kind != AxisKind::choice) return std::string(d.description) + axisScope(axis);
+  std::string help =
+      joinNames(d.values, "|") + ": " + std::string(d.description) + " (default " + valueText(axis, d.defaultValue);
+  for (const auto& c : schema::kAxisConditionalDefaults) {
+    if (c.axis == axis) help += "; " + valueText(axis, c.value) + " with " + givenText(c.on, c.onValue);
+  }
+  return help + ")" + axisScope(axis);
+}
+
+// One option per axis of the schema (schema: axes), by its kind.
+void addAxisOptions(CLI::App& app, RawOptions& raw) {
+  for (std::size_t i = 0; i < raw.axes.size(); ++i) {
+    const auto axis = static_cast<Axis>(i);
+    const auto& d = definitionOf(axis);
+    const std::string flag(d.flag);
+    AxisInput& input = raw.axes[i];
+    if (d.kind == AxisKind::choice) {
+      input.option = app.add_option(flag, input.choice, axisHelp(axis))
+                         ->check(CLI::IsMember(std::vector<std::string>(d.values.begin(), d.values.end())));
+    } else if (d.kind == AxisKind::count) {
+      // A default below the minimum is the renderer's own choice, which the help text names.
+      input.option = app.add_option(flag, input.count, axisHelp(axis))
+                         ->check(integerAtLeast(d.minimum))
+                         ->default_str(d.defaultValue < d.minimum ? "" : std::to_string(d.defaultValue));
+    } else {
+      input.option = app.add_flag(flag, input.toggle, axisHelp(axis));
+    }
+  }
 }
 
 // The retired GPU variants' names that `flag` chose (schema:
@@ -245,22 +290,6 @@ void addRetiredGpuOptions(CLI::App& app) {
            flag, [flag, message](const std::string&) { throw CLI::ValidationError(flag, message); })
         ->group("");
   }
-}
-
-// The GPU renderers' variants (schema: gpu_bvhs, gpu_rt_reorders).
-void addGpuOptions(CLI::App& app, RawOptions& raw) {
-  const RenderOptions defaults;
-  app.add_option("--gpu-bvh", raw.gpuBvh,
-                 "which BVH the GPU renderer's shader walks (" + gpuFlag() + " with --accel bvh or auto): " +
-                     joinNames(schema::kGpuBvhNames, "|") + " (default " + std::string(nameOf(defaults.gpuBvh)) +
-                     "; auto with --accel auto: the fastest in a probe frame of each)")
-      ->check(CLI::IsMember(namesOf(schema::kGpuBvhNames)));
-  app.add_option("--gpu-rt-reorder", raw.gpuRtReorder,
-                 "whether the ray-tracing pipeline renderer (" + gpuRtFlag() +
-                     ") reorders its invocations by hit before shading (VK_NV_ray_tracing_invocation_reorder): " +
-                     joinNames(schema::kGpuRtReorderNames, "|") + " (default " +
-                     std::string(nameOf(defaults.gpuRtReorder)) + ")")
-      ->check(CLI::IsMember(namesOf(schema::kGpuRtReorderNames)));
 }
 
 void addRendererOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
@@ -311,11 +340,6 @@ void addDeviceOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
 }
 
 void addRunOptions(CLI::App& app, RawOptions& raw, RunConfig& config) {
-  app.add_option("--precision", raw.precision,
-                 "the type of the render model's arithmetic: " + joinNames(schema::kPrecisionNames, "|") +
-                     " (default f32); f16, the thesis' half-precision experiment, for " + flagsOf(computesInHalf) +
-                     " where the CPU's SIMD target or the Vulkan device computes in f16")
-      ->check(CLI::IsMember(namesOf(schema::kPrecisionNames)));
   app.add_flag("--agreement", config.agreement,
                "after the frames, compare frame 0 with the double-precision reference (metadata agreement: share "
                "within 2/255, PSNR)");
@@ -347,93 +371,81 @@ void applyModelOptions(const RawOptions& raw, RunConfig& config) {
   if (!raw.stage.empty()) config.options = optionsForStage(*enumByName<Stage>(schema::kStageNames, raw.stage));
   if (!raw.algorithm.empty()) config.options.algorithm = *enumByName<Algorithm>(schema::kAlgorithmNames, raw.algorithm);
   if (!raw.earlyExit.empty()) config.options.earlyExits = parseEarlyExits(raw.earlyExit);
-  if (!raw.accel.empty()) config.options.accel = *enumByName<Accel>(schema::kAccelNames, raw.accel);
-  if (const auto own = definitionOf(config.renderer).ownAccel) {
-    if (!raw.accel.empty() && config.options.accel != *own) {
-      throw CLI::ValidationError("--accel", "renderer " + std::string(nameOf(config.renderer)) +
-                                                " always uses its own " + std::string(nameOf(*own)) + "; --accel " +
-                                                raw.accel + " does not apply");
-    }
-    config.options.accel = *own;
-  }
   if (!raw.present.empty()) config.present = *enumByName<PresentMode>(schema::kPresentModeNames, raw.present);
 }
 
-// The traversal axis belongs to the SIMD kernel alone (schema: traversals),
-// the counters to it and the GPU renderer (frame_csv's counter columns); a
-// run of another renderer would record a setting it ignored. Runs after
-// applyModelOptions, which resets config.options to the stage's.
-void applyTraversalOptions(const RawOptions& raw, RunConfig& config) {
-  const std::string renderer(nameOf(config.renderer));
-  if (!raw.traversal.empty()) {
-    config.options.traversal = *enumByName<Traversal>(schema::kTraversalNames, raw.traversal);
-  }
-  if (config.options.traversal != Traversal::packet) {
-    if (!hasSimdKernel(config.renderer)) {
-      throw CLI::ValidationError("--traversal", "--traversal " + raw.traversal + " applies to the SIMD renderers (" +
-                                                    simdKernelFlags() + ") with --accel bvh; renderer " + renderer +
-                                                    " has no traversal");
-    }
-    if (config.options.accel == Accel::none) {
-      throw CLI::ValidationError("--traversal", "--traversal " + raw.traversal +
-                                                    " walks a BVH: it needs --accel bvh or auto (accel is " +
-                                                    std::string(nameOf(config.options.accel)) + ")");
-    }
-  }
-  if (*raw.hybridThresholdOption) {
-    if (config.options.traversal != Traversal::hybrid) {
-      throw CLI::ValidationError("--hybrid-threshold", "--hybrid-threshold needs --traversal hybrid");
-    }
-    config.options.hybridThreshold = raw.hybridThreshold;
-  }
-  if (raw.counters && !counts(definitionOf(config.renderer))) {
-    throw CLI::ValidationError("--counters", "only the SIMD renderers and the GPU renderer (" + countingFlags() +
-                                                 ") count; renderer " + renderer + " does not");
-  }
-  config.options.counters = raw.counters;
+int givenValue(Axis axis, const AxisInput& input) {
+  const auto& d = definitionOf(axis);
+  if (d.kind == AxisKind::choice) return static_cast<int>(std::ranges::find(d.values, input.choice) - d.values.begin());
+  return d.kind == AxisKind::count ? input.count : static_cast<int>(input.toggle);
 }
 
-// The GPU renderer's walk (schema: gpu_bvhs) means nothing to the other
-// renderers, nor without a BVH; as for --traversal, a run would record a
-// setting it ignored. It is refused there whenever it is given, its default
-// value too. Runs after applyModelOptions (config.options.accel).
-void applyGpuOptions(const RawOptions& raw, RunConfig& config) {
-  if (!raw.gpuBvh.empty() && config.renderer != RendererKind::gpu) {
-    throw CLI::ValidationError("--gpu-bvh", "--gpu-bvh applies to the GPU renderer (" + gpuFlag() +
-                                                ") only; renderer " + std::string(nameOf(config.renderer)) +
-                                                " does not take it");
-  }
-  if (!raw.gpuBvh.empty()) {
-    if (config.options.accel == Accel::none) {
-      const std::string accel(nameOf(config.options.accel));
-      throw CLI::ValidationError("--gpu-bvh", "--gpu-bvh " + raw.gpuBvh +
-                                                  " chooses the BVH the shader walks: it needs --accel bvh or auto "
-                                                  "(accel is " +
-                                                  accel + ")");
-    }
-    config.options.gpuBvh = *enumByName<GpuBvh>(schema::kGpuBvhNames, raw.gpuBvh);
-  } else if (config.renderer == RendererKind::gpu && config.options.accel == Accel::auto_) {
-    config.options.gpuBvh = GpuBvh::auto_;  // --accel auto chooses the walk too (schema: gpu_bvhs)
-  }
-  if (!raw.gpuRtReorder.empty()) {
-    if (config.renderer != RendererKind::gpu_rt) {
-      throw CLI::ValidationError("--gpu-rt-reorder", "--gpu-rt-reorder applies to the ray-tracing pipeline renderer (" +
-                                                         gpuRtFlag() + ") only; renderer " +
-                                                         std::string(nameOf(config.renderer)) + " does not take it");
-    }
-    config.options.gpuRtReorder = *enumByName<GpuRtReorder>(schema::kGpuRtReorderNames, raw.gpuRtReorder);
+// A renderer takes an axis where the schema lists it (axes[].renderers), or
+// the axis' default where every renderer has that (default_for_all). A run
+// that recorded a setting its renderer ignored would mislabel its CSV rows,
+// so any other is refused, the axis' default value too.
+void checkRendererTakes(Axis axis, int value, RendererKind kind) {
+  const auto& d = definitionOf(axis);
+  if (d.takenBy(kind) || (d.defaultForAll && value == d.defaultValue)) return;
+  const std::string what = d.defaultForAll ? givenText(axis, value) : std::string(d.flag);
+  throw CLI::ValidationError(std::string(d.flag), "renderer " + std::string(nameOf(kind)) + " does not take " + what +
+                                                      "; " + what + " applies to " + flagsTaking(d));
+}
+
+// What a given axis needs of an earlier one (axes[].requires), as that one was set.
+void checkRequirements(Axis axis, int value, const RenderOptions& options) {
+  for (const auto& r : schema::kAxisRequirements) {
+    const int current = axisValue(options, r.on);
+    if (r.axis != axis || ((r.valueMask >> current) & 1u) != 0) continue;
+    const auto& on = definitionOf(r.on);
+    throw CLI::ValidationError(std::string(definitionOf(axis).flag),
+                               givenText(axis, value) + " needs " + std::string(on.flag) + " " +
+                                   valuesIn(on, r.valueMask, " or ") + " (" + std::string(nameOf(r.on)) + " is " +
+                                   valueText(r.on, current) + ")");
   }
 }
 
-// f32 is what every renderer computes in; f16 only the renderers of the
-// experiment take, and they refuse it where the hardware lacks f16 arithmetic.
-void applyPrecision(const RawOptions& raw, RunConfig& config) {
-  if (raw.precision.empty()) return;
-  config.options.precision = *enumByName<Precision>(schema::kPrecisionNames, raw.precision);
-  if (config.options.precision != Precision::f32 && !computesInHalf(definitionOf(config.renderer))) {
-    throw CLI::ValidationError("--precision", "--precision " + raw.precision + " applies to " +
-                                                  flagsOf(computesInHalf) + "; renderer " +
-                                                  std::string(nameOf(config.renderer)) + " computes in f32 only");
+// The value a renderer always has, whatever the command line says: its own
+// structure (schema renderers[].own_accel: Embree's BVH, the driver's for gpu_rt).
+std::optional<int> ownValue(RendererKind kind, Axis axis) {
+  const auto own = definitionOf(kind).ownAccel;
+  if (axis != Axis::accel || !own) return std::nullopt;
+  return static_cast<int>(*own);
+}
+
+// The default that another axis' value sets (axes[].default_when: --gpu-bvh
+// auto with --accel auto), where the renderer takes the axis.
+std::optional<int> conditionalDefault(Axis axis, const RenderOptions& options) {
+  for (const auto& c : schema::kAxisConditionalDefaults) {
+    if (c.axis == axis && axisValue(options, c.on) == c.onValue) return c.value;
+  }
+  return std::nullopt;
+}
+
+// Every axis of the schema (schema: axes) through one path, in schema
+// order, so that a requirement reads the value its earlier axis settled on.
+// Runs after applyModelOptions, which resets config.options to the stage's.
+void applyAxes(const RawOptions& raw, RunConfig& config) {
+  for (std::size_t i = 0; i < raw.axes.size(); ++i) {
+    const auto axis = static_cast<Axis>(i);
+    const bool given = raw.axes[i].option->count() > 0;
+    std::optional<int> value;
+    if (given) {
+      value = givenValue(axis, raw.axes[i]);
+      checkRendererTakes(axis, *value, config.renderer);
+      checkRequirements(axis, *value, config.options);
+    } else if (definitionOf(axis).takenBy(config.renderer)) {
+      value = conditionalDefault(axis, config.options);
+    }
+    if (const auto own = ownValue(config.renderer, axis)) {
+      if (given && *value != *own) {
+        throw CLI::ValidationError(std::string(definitionOf(axis).flag),
+                                   "renderer " + std::string(nameOf(config.renderer)) + " always uses its own " +
+                                       valueText(axis, *own) + "; " + givenText(axis, *value) + " does not apply");
+      }
+      value = own;
+    }
+    if (value) setAxisValue(config.options, axis, *value);
   }
 }
 
@@ -501,8 +513,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
   addRendererChoice(app, raw);
   addFrameOptions(app, config);
   addModelOptions(app, raw);
-  addTraversalOptions(app, raw);
-  addGpuOptions(app, raw);
+  addAxisOptions(app, raw);
   addRetiredGpuOptions(app);
   addRendererOptions(app, raw, config);
   addOutputOptions(app, raw);
@@ -514,9 +525,7 @@ std::variant<RunConfig, CliExit> parseCommandLine(int argc, const char* const* a
     if (raw.version) return CliExit{0, versionText(), ""};
     applyRendererChoice(raw, config);
     applyModelOptions(raw, config);
-    applyTraversalOptions(raw, config);
-    applyGpuOptions(raw, config);
-    applyPrecision(raw, config);
+    applyAxes(raw, config);
     applyWindowOptions(raw, config);
     applyOutputs(raw, config);
   } catch (const CLI::CallForHelp&) {

@@ -221,27 +221,33 @@ def test_a_slow_load_says_so_on_stderr_and_a_fast_one_does_not(raytracer, repo_r
 
 
 # The traversal axis and the counters belong to the SIMD kernel (schema:
-# traversals); a combination that would record a setting the run ignored
-# is refused before anything is rendered or written.
+# axes; the counters to the GPU renderer too); a combination that would
+# record a setting the run ignored is refused before anything is rendered
+# or written.
 @pytest.mark.parametrize(
     "args, message",
     [
         (
             ["--sequential", "--accel", "bvh", "--traversal", "single"],
-            "--traversal single applies to the SIMD renderers (--simd and --simd-only) with --accel bvh; "
-            "renderer sequential has no traversal",
+            "--traversal: renderer sequential does not take --traversal; --traversal applies to --simd and --simd-only",
         ),
-        (["--simd", "--accel", "none", "--traversal", "single"], "--traversal single walks a BVH: it needs --accel"),
-        (["--simd-only", "--traversal", "hybrid"], "--traversal hybrid walks a BVH: it needs --accel bvh"),
+        (
+            ["--simd", "--accel", "none", "--traversal", "single"],
+            "--traversal: --traversal single needs --accel bvh or auto (accel is none)",
+        ),
+        (["--simd-only", "--traversal", "hybrid"], "--traversal hybrid needs --accel bvh"),
         (
             ["--simd", "--accel", "bvh", "--traversal", "hybrid", "--hybrid-threshold", "0"],
             "--hybrid-threshold: expected a positive integer, got '0'",
         ),
-        (["--simd", "--accel", "bvh", "--hybrid-threshold", "4"], "--hybrid-threshold needs --traversal hybrid"),
+        (
+            ["--simd", "--accel", "bvh", "--hybrid-threshold", "4"],
+            "--hybrid-threshold 4 needs --traversal hybrid (traversal is packet)",
+        ),
         (
             ["--sequential", "--counters"],
-            "--counters: only the SIMD renderers and the GPU renderer (--simd, --simd-only and --gpu) count; "
-            "renderer sequential does not",
+            "--counters: renderer sequential does not take --counters; --counters applies to --simd, --simd-only "
+            "and --gpu",
         ),
         (["--tbb-only", "--counters"], "renderer tbb_only does not"),
         (["--simd", "--accel", "bvh", "--traversal", "zigzag"], "--traversal: zigzag not in {packet,single,hybrid}"),
@@ -270,8 +276,7 @@ RETIRED = schema.schema()["retired_gpu_variants"]
         *[
             (
                 [renderer, "--accel", "bvh", "--gpu-bvh", entry["name"]],
-                "--gpu-bvh: --gpu-bvh applies to the GPU renderer (--gpu) only; "
-                f"renderer {schema_name} does not take it",
+                f"--gpu-bvh: renderer {schema_name} does not take --gpu-bvh; --gpu-bvh applies to --gpu",
             )
             for renderer, schema_name in [("--sequential", "sequential"), ("--simd", "simd_tbb")]
             for entry in schema.schema()["gpu_bvhs"]
@@ -288,11 +293,14 @@ RETIRED = schema.schema()["retired_gpu_variants"]
         ],
         (
             ["--gpu", "--gpu-bvh", "wide"],
-            "--gpu-bvh: --gpu-bvh wide chooses the BVH the shader walks: it needs --accel bvh or auto (accel is none)",
+            "--gpu-bvh: --gpu-bvh wide needs --accel bvh or auto (accel is none)",
         ),
-        (["--gpu", "--accel", "none", "--gpu-bvh", "binary"], "it needs --accel bvh or auto (accel is none)"),
+        (
+            ["--gpu", "--accel", "none", "--gpu-bvh", "binary"],
+            "--gpu-bvh binary needs --accel bvh or auto (accel is none)",
+        ),
         (["--gpu", "--accel", "bvh", "--gpu-bvh", "quad"], "--gpu-bvh: quad not in {binary,wide,grid,auto}"),
-        (["--gpu", "--traversal", "single", "--accel", "bvh"], "renderer gpu has no traversal"),
+        (["--gpu", "--traversal", "single", "--accel", "bvh"], "renderer gpu does not take --traversal"),
     ],
 )
 def test_bad_gpu_axes_exit_2_naming_the_option(raytracer, repo_root, tmp_path, args, message):

@@ -103,12 +103,20 @@ def test_an_override_matches_traversals_and_never_a_configuration_without_one():
     [
         ({"traversals": ["packet", "zigzag"]}, "traversals must be a list, each one of packet, single, hybrid"),
         ({"traversals": "single"}, "traversals must be a list"),
-        ({"traversals": ["single", "single"]}, "traversals names a traversal twice"),
-        ({"hybrid_thresholds": [4]}, "hybrid_thresholds: applies to traversal hybrid, which traversals lacks"),
+        ({"traversals": ["single", "single"]}, "traversals names a value twice"),
+        (
+            {"hybrid_thresholds": [4]},
+            "hybrid_thresholds: applies to the simd_tbb and simd_only renderers with traversal hybrid only, and this "
+            "profile has no traversal hybrid",
+        ),
         ({"traversals": ["hybrid"], "hybrid_thresholds": [0]}, "each an integer >= 1"),
         ({"traversals": ["hybrid"], "hybrid_thresholds": ["4"]}, "hybrid_thresholds must be a list"),
         ({"counters": "yes"}, "counters must be true or false"),
-        ({"accels": ["none"], "traversals": ["single"]}, "traversals: a traversal applies to the"),
+        (
+            {"accels": ["none"], "traversals": ["single"]},
+            "traversals: applies to the simd_tbb and simd_only renderers with accel bvh only, and this profile has no "
+            "accel bvh",
+        ),
         ({"overrides": [{"traversals": ["fast"], "skip": True}]}, "overrides[0].traversals must be a list"),
     ],
 )
@@ -121,8 +129,14 @@ def test_bad_traversal_and_counter_keys_name_the_file_and_key(keys, message):
 @pytest.mark.parametrize(
     "keys, message",
     [
-        ({"traversals": ["single"]}, "and this profile has no such renderer"),
-        ({"counters": True}, "counters: only the renderers that count (simd_tbb, simd_only, gpu) take it"),
+        (
+            {"traversals": ["single"]},
+            "traversals: applies to the simd_tbb and simd_only renderers only, which this profile does not run",
+        ),
+        (
+            {"counters": True},
+            "counters: applies to the simd_tbb, simd_only and gpu renderers only, which this profile does not run",
+        ),
     ],
 )
 def test_traversals_and_counters_must_reach_a_renderer_that_takes_them(keys, message):
