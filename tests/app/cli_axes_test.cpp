@@ -136,7 +136,9 @@ TEST(CliAxes, EveryAxisIsRefusedByTheRenderersThatDoNotTakeIt) {
                 std::string::npos)
           << refused->error;
       for (const RendererKind taker : everyRenderer()) {
-        if (d.takenBy(taker)) EXPECT_NE(refused->error.find(flagOf(taker)), std::string::npos) << refused->error;
+        if (d.takenBy(taker)) {
+          EXPECT_NE(refused->error.find(flagOf(taker)), std::string::npos) << refused->error;
+        }
       }
       if (d.defaultForAll) {
         EXPECT_TRUE(
