@@ -35,6 +35,7 @@ from rtbench import (
     archive,
     atomic,
     budget,
+    cli,
     configurations,
     findings,
     load,
@@ -230,9 +231,7 @@ def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
 
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
+    parser = cli.command_parser(prog, __doc__)
     parser.add_argument(
         "run_dirs",
         nargs="+",
