@@ -85,7 +85,7 @@ def parse_args(argv: list[str] | None, prog: str | None) -> tuple[argparse.Names
         metavar="FRACTION",
         help="exit 1 if a configuration is significantly slower by more than this (e.g. 10%%)",
     )
-    budget.add_budgets_option(p, "frame budgets (default: 16.67 33.33)")
+    budget.add_budgets_option(p, "frame budgets")
     p.add_argument(
         "--all-cores",
         action="store_true",
