@@ -35,7 +35,7 @@ import time
 import traceback
 from pathlib import Path
 
-from rtbench import builder, configurations, emulation, manifests, names, noise, profiles, runner
+from rtbench import builder, cli, configurations, emulation, manifests, names, noise, profiles, runner
 from rtbench.profiles import ProfileError
 from rtbench.run_status import ManifestStatus, RunStatus
 
@@ -53,7 +53,7 @@ def binary_from_environment(preset: str) -> Path | None:
 
 
 def parse_args(argv: list[str] | None, prog: str = "bench") -> argparse.Namespace:
-    p = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = cli.command_parser(prog, __doc__)
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene names or files (default: the profile's scenes)")
     p.add_argument("-p", "--profile", help="profile name (profiles/NAME.toml) or file; default paper")
     p.add_argument(

@@ -42,10 +42,17 @@ def positive_ms(text: str) -> float:
     return value
 
 
-def add_budgets_option(parser: argparse.ArgumentParser, help_text: str) -> None:
-    """--budget-ms, as the report and the comparison both take it."""
+def add_budgets_option(parser: argparse.ArgumentParser, what: str) -> None:
+    """--budget-ms, as the report and the comparison both take it; its help
+    says `what` the budgets are for, and the default."""
+    default = " ".join(str(ms) for ms in DEFAULT_BUDGETS_MS)
     parser.add_argument(
-        "--budget-ms", type=positive_ms, nargs="+", default=list(DEFAULT_BUDGETS_MS), metavar="MS", help=help_text
+        "--budget-ms",
+        type=positive_ms,
+        nargs="+",
+        default=list(DEFAULT_BUDGETS_MS),
+        metavar="MS",
+        help=f"{what} (default: {default})",
     )
 
 

@@ -16,6 +16,7 @@ before they import any.
 
 from __future__ import annotations
 
+import argparse
 import importlib
 import sys
 from dataclasses import dataclass
@@ -57,6 +58,13 @@ COMMANDS = {
         "rtbench.scenes", "gen_scene.py", "write the committed scenes, or a random one (scripts/gen_scene.py)"
     ),
 }
+
+
+def command_parser(prog: str | None, doc: str | None) -> argparse.ArgumentParser:
+    """The argument parser every command starts from: its usage under `prog`
+    (its wrapper's name in scripts/), and `doc`, its module's docstring, as
+    the description of --help, its line breaks kept."""
+    return argparse.ArgumentParser(prog=prog, description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
 
 
 def usage() -> str:

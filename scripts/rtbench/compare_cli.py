@@ -38,7 +38,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from rtbench import budget, compare_input, compare_output, load
+from rtbench import budget, cli, compare_input, compare_output, load
 from rtbench.compare import DEFAULT_ALPHA, DEFAULT_NOISE, ENVIRONMENT_KEYS, CompareError, Options
 
 # The command alone, its --help the docstring above: rtbench.compare computes the comparison,
@@ -57,7 +57,7 @@ def fraction(text: str) -> float:
 
 
 def parse_args(argv: list[str] | None, prog: str | None) -> tuple[argparse.Namespace, Options]:
-    p = argparse.ArgumentParser(prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = cli.command_parser(prog, __doc__)
     p.add_argument(
         "runs",
         nargs="*",
@@ -85,7 +85,7 @@ def parse_args(argv: list[str] | None, prog: str | None) -> tuple[argparse.Names
         metavar="FRACTION",
         help="exit 1 if a configuration is significantly slower by more than this (e.g. 10%%)",
     )
-    budget.add_budgets_option(p, "frame budgets (default: 16.67 33.33)")
+    budget.add_budgets_option(p, "frame budgets")
     p.add_argument(
         "--all-cores",
         action="store_true",

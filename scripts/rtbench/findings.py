@@ -123,6 +123,51 @@ def _r(renderer: str, stage: str) -> Ref:
 SEQ_O, SEQ_P = _r("sequential", "original"), _r("sequential", "optimized")
 
 
+def _speedup(
+    key: str,
+    text: str,
+    renderer: str,
+    stage: str,
+    region: tuple[float, float],
+    line: str,
+    factors: tuple[str, ...],
+    stated: tuple[str, str] | None = None,
+) -> Claim:
+    """A claim on the speedup of `renderer` over sequential at `stage`:
+    S = T(sequential) / T(renderer), in `region` (low, high)."""
+    seq, ref = _r("sequential", stage), _r(renderer, stage)
+    return Claim(
+        key,
+        text,
+        f"S = T(sequential) / T({renderer})",
+        (seq, ref),
+        lambda m, p: _s(m, ref, seq),
+        *region,
+        line,
+        factors,
+        stated,
+    )
+
+
+def _karp_flatt(
+    key: str, text: str, renderer: str, p_is: str, region: tuple[float, float], line: str, factors: tuple[str, ...]
+) -> Claim:
+    """A claim on the Karp-Flatt serial fraction e of `renderer` (optimized),
+    from its speedup over sequential and its p (`p_is` says what p is)."""
+    ref = _r(renderer, "optimized")
+    return Claim(
+        key,
+        text,
+        f"Karp-Flatt e of {renderer}, p = {p_is}",
+        (SEQ_P, ref),
+        lambda m, p: _kf(_s(m, ref, SEQ_P), p[ref.key]),
+        *region,
+        line,
+        factors,
+        ("karp_flatt", renderer),
+    )
+
+
 def _gains(m: dict, renderers) -> list:
     return [m[f"{r}@original"] / m[f"{r}@single-pass"] for r in renderers]
 
@@ -139,14 +184,12 @@ def _max(values: list):
 # show"): 1.6x of SIMD + TBB; TBB only's 4.25-4.53x over 8 cores, i.e. a
 # parallel efficiency of 0.53-0.57; the region of each is set around them.
 CLAIMS: list[Claim] = [
-    Claim(
+    _speedup(
         "1",
         "SIMD + TBB gives only about 1.6x over sequential (original)",
-        "S = T(sequential) / T(simd_tbb)",
-        (SEQ_O, _r("simd_tbb", "original")),
-        lambda m, p: _s(m, _r("simd_tbb", "original"), SEQ_O),
-        1.6 / ABOUT,
-        1.6 * ABOUT,
+        "simd_tbb",
+        "original",
+        (1.6 / ABOUT, 1.6 * ABOUT),
         f"about 1.6x: S in [1.6/{ABOUT:g}, 1.6×{ABOUT:g}]",
         (BUILD, CORES, LANES, OCCUPANCY),
     ),
@@ -161,14 +204,12 @@ CLAIMS: list[Claim] = [
         f"parallel efficiency about the thesis' 0.53-0.57: S/p in [0.53/{ABOUT:g}, min(0.57×{ABOUT:g}, 1)]",
         (BUILD, CORES),
     ),
-    Claim(
+    _speedup(
         "3",
         "SIMD alone is slower than sequential (original; thesis 3.0-3.5x slower)",
-        "S = T(sequential) / T(simd_only)",
-        (SEQ_O, _r("simd_only", "original")),
-        lambda m, p: _s(m, _r("simd_only", "original"), SEQ_O),
-        0.0,
-        1.0,
+        "simd_only",
+        "original",
+        (0.0, 1.0),
         "slower: S < 1",
         (BUILD, LANES, OCCUPANCY),
     ),
@@ -205,64 +246,46 @@ CLAIMS: list[Claim] = [
         "faster: gain > 1",
         (BUILD, LANES, OCCUPANCY),
     ),
-    Claim(
+    _speedup(
         "5b",
         "... so that SIMD alone beats sequential (optimized)",
-        "S = T(sequential) / T(simd_only)",
-        (SEQ_P, _r("simd_only", "optimized")),
-        lambda m, p: _s(m, _r("simd_only", "optimized"), SEQ_P),
-        1.0,
-        math.inf,
+        "simd_only",
+        "optimized",
+        (1.0, math.inf),
         "faster than sequential: S > 1",
         (BUILD, LANES, OCCUPANCY),
     ),
-    Claim(
-        "6a",
-        "the GPU is about three orders of magnitude faster than sequential (original)",
-        "S = T(sequential) / T(gpu)",
-        (SEQ_O, _r("gpu", "original")),
-        lambda m, p: _s(m, _r("gpu", "original"), SEQ_O),
-        10 ** (ORDERS - 0.5),
-        10 ** (ORDERS + 0.5),
-        "about 10^3: log10 S in [2.5, 3.5]",
-        (BUILD, CORES),
-        ("speedup", "gpu"),
+    # One claim, at each stage the thesis' table has.
+    *(
+        _speedup(
+            key,
+            f"the GPU is about three orders of magnitude faster than sequential ({stage})",
+            "gpu",
+            stage,
+            (10 ** (ORDERS - 0.5), 10 ** (ORDERS + 0.5)),
+            "about 10^3: log10 S in [2.5, 3.5]",
+            (BUILD, CORES),
+            ("speedup", "gpu"),
+        )
+        for key, stage in (("6a", "original"), ("6b", "optimized"))
     ),
-    Claim(
-        "6b",
-        "the GPU is about three orders of magnitude faster than sequential (optimized)",
-        "S = T(sequential) / T(gpu)",
-        (SEQ_P, _r("gpu", "optimized")),
-        lambda m, p: _s(m, _r("gpu", "optimized"), SEQ_P),
-        10 ** (ORDERS - 0.5),
-        10 ** (ORDERS + 0.5),
-        "about 10^3: log10 S in [2.5, 3.5]",
-        (BUILD, CORES),
-        ("speedup", "gpu"),
-    ),
-    Claim(
+    _karp_flatt(
         "7a",
         "SIMD + TBB keeps a large serial fraction (optimized; e 0.206)",
-        "Karp-Flatt e of simd_tbb, p = threads x lanes",
-        (SEQ_P, _r("simd_tbb", "optimized")),
-        lambda m, p: _kf(_s(m, _r("simd_tbb", "optimized"), SEQ_P), p["simd_tbb@optimized"]),
-        SERIAL_E,
-        math.inf,
+        "simd_tbb",
+        "threads x lanes",
+        (SERIAL_E, math.inf),
         f"same regime, largely serial: e >= {SERIAL_E:g}",
         (BUILD, CORES, LANES, OCCUPANCY),
-        ("karp_flatt", "simd_tbb"),
     ),
-    Claim(
+    _karp_flatt(
         "7b",
         "the GPU's serial fraction is near zero (optimized; e 0.002)",
-        "Karp-Flatt e of gpu, p = the device's estimate",
-        (SEQ_P, _r("gpu", "optimized")),
-        lambda m, p: _kf(_s(m, _r("gpu", "optimized"), SEQ_P), p["gpu@optimized"]),
-        -math.inf,
-        NEAR_ZERO_E,
+        "gpu",
+        "the device's estimate",
+        (-math.inf, NEAR_ZERO_E),
         f"same regime, near zero: e < {NEAR_ZERO_E:g}",
         (BUILD,),
-        ("karp_flatt", "gpu"),
     ),
 ]
 

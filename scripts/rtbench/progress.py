@@ -25,11 +25,12 @@ stderr.
 
 from __future__ import annotations
 
-import argparse
 import re
 import sys
 import time
 from pathlib import Path
+
+from rtbench import cli
 
 NINJA_STEP = re.compile(r"^\[(\d+)/(\d+)\] ")
 NINJA_NOTHING_TO_DO = "ninja: no work to do."
@@ -89,9 +90,7 @@ def filter_stream(lines, log, out, label: str) -> BuildProgress:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python3 -m rtbench.progress", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
+    parser = cli.command_parser("python3 -m rtbench.progress", __doc__)
     parser.add_argument("label", help="what the lines start with, e.g. 'building preset debug'")
     parser.add_argument("--log", type=Path, required=True, help="where the whole output goes")
     args = parser.parse_args(argv)

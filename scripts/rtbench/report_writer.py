@@ -35,6 +35,7 @@ from rtbench import (
     archive,
     atomic,
     budget,
+    cli,
     configurations,
     findings,
     load,
@@ -230,9 +231,7 @@ def collect_warnings(inputs: ReportInputs, summary: pd.DataFrame) -> list[str]:
 
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
+    parser = cli.command_parser(prog, __doc__)
     parser.add_argument(
         "run_dirs",
         nargs="+",
@@ -257,7 +256,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
         metavar="N",
         help="processor count of the GPU for Karp-Flatt (default: per-device estimate, data/gpu_processors.toml)",
     )
-    budget.add_budgets_option(parser, "frame budgets of the frame-budget table (default: 16.67 33.33)")
+    budget.add_budgets_option(parser, "frame budgets of the frame-budget table")
     parser.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     args = parser.parse_args(argv)
     if args.gpu_p is not None and args.gpu_p <= 1:

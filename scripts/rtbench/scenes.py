@@ -45,14 +45,13 @@ Python 3), never gauss, choice or paretovariate.
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import random
 import re
 from pathlib import Path
 
-from rtbench import atomic, schema
+from rtbench import atomic, cli, schema
 
 # Every number is written with this many decimals, so the files are stable
 # across Python versions and platforms.
@@ -422,9 +421,7 @@ def to_json(scene: dict) -> str:
 
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog=prog, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
+    parser = cli.command_parser(prog, __doc__)
     parser.add_argument(
         "names",
         nargs="*",

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import pandas as pd
@@ -387,6 +388,14 @@ def _config_cells(d: dict, leave_out: tuple[str, ...] = ()) -> list[str]:
     return [cell(d) for _, _, cell in _config_columns(leave_out)]
 
 
+def _config_rows(
+    frame: pd.DataFrame, stats: Callable[[dict], list[str]], leave_out: tuple[str, ...] = ()
+) -> list[list[str]]:
+    """One row per configuration of `frame`: its configuration cells (less
+    `leave_out`), then `stats` of it."""
+    return [[*_config_cells(d, leave_out), *stats(d)] for d in (r._asdict() for r in frame.itertuples(index=False))]
+
+
 def config_headers(leave_out: tuple[str, ...] = ()) -> tuple[list[str], str]:
     """The configuration columns' headers and alignment, for tables built elsewhere (budget, compare)."""
     return _config_headers(leave_out)
@@ -404,19 +413,17 @@ def _target_or_device(d: dict) -> str:
 
 def metrics_our(metrics: pd.DataFrame) -> Table:
     """Speedup and Karp-Flatt of every configuration of our run."""
-    rows = []
-    for r in metrics.itertuples(index=False):
-        d = r._asdict()
-        rows.append(
-            [
-                *_config_cells(d),
-                fmt_ms(d["ref_median"]),
-                fmt_ms(d["median"]),
-                f"{fmt_fixed(d['speedup'])} [{fmt_fixed(d['speedup_low'], 2)}, {fmt_fixed(d['speedup_high'], 2)}]",
-                fmt_int(d["p"]) if math.isfinite(d["p"]) else MISSING,
-                fmt_sig(d["karp_flatt"]),
-            ]
-        )
+
+    def stats(d: dict) -> list[str]:
+        return [
+            fmt_ms(d["ref_median"]),
+            fmt_ms(d["median"]),
+            f"{fmt_fixed(d['speedup'])} [{fmt_fixed(d['speedup_low'], 2)}, {fmt_fixed(d['speedup_high'], 2)}]",
+            fmt_int(d["p"]) if math.isfinite(d["p"]) else MISSING,
+            fmt_sig(d["karp_flatt"]),
+        ]
+
+    rows = _config_rows(metrics, stats)
     reference = names.reference_renderer()
     headers, align = _config_headers()
     return Table(
@@ -491,26 +498,20 @@ def summary_table(summary: pd.DataFrame) -> Table:
     """Every configuration with every statistic (warm-up frames excluded),
     and Mrays/s where the runs have counters (metrics.with_throughput)."""
     rate = metrics.MRAYS_PER_S in summary.columns
-    rows = []
-    for r in summary.itertuples(index=False):
-        d = r._asdict()
-        rows.append(
-            [
-                *_config_cells(d),
-                fmt_int(d["n"]),
-                fmt_ms(d["median"]),
-                f"[{fmt_ms(d['ci_low'])}, {fmt_ms(d['ci_high'])}]",
-                fmt_ms(d["mean"]),
-                fmt_ms(d["std"]),
-                fmt_ms(d["mad"]),
-                fmt_ms(d["p95"]),
-                fmt_ms(d["p99"]),
-                fmt_int(d["outliers"]),
-                fmt_int(d["repetitions"]),
-                fmt_percent(d["rep_spread"]),
-                *([fmt_rate(d[metrics.MRAYS_PER_S])] if rate else []),
-            ]
-        )
+
+    def stats(d: dict) -> list[str]:
+        return [
+            fmt_int(d["n"]),
+            fmt_ms(d["median"]),
+            f"[{fmt_ms(d['ci_low'])}, {fmt_ms(d['ci_high'])}]",
+            *(fmt_ms(d[key]) for key in ("mean", "std", "mad", "p95", "p99")),
+            fmt_int(d["outliers"]),
+            fmt_int(d["repetitions"]),
+            fmt_percent(d["rep_spread"]),
+            *([fmt_rate(d[metrics.MRAYS_PER_S])] if rate else []),
+        ]
+
+    rows = _config_rows(summary, stats)
     headers, align = _config_headers()
     notes = [
         "n = measured frames over all repetitions; CI = bootstrap 95% CI of the median (2000 resamples, seeded); "
@@ -752,20 +753,18 @@ def startup_vs_spheres(startup: pd.DataFrame) -> Table:
 def cost_vs_spheres(fits: pd.DataFrame) -> Table:
     """The fitted exponent k of median render_ms = c N^k per configuration
     that ran on several sphere counts (metrics.cost_fits)."""
-    rows = []
-    for r in fits.itertuples(index=False):
-        d = r._asdict()
-        rows.append(
-            [
-                *_config_cells(d, leave_out=("scene",)),
-                f"{d['spheres_min']}–{d['spheres_max']}",
-                fmt_int(d["counts"]),
-                fmt_ms(d["ms_min"]),
-                fmt_ms(d["ms_max"]),
-                fmt_fixed(d["exponent"], 2),
-                fmt_fixed(d["r2"], 3),
-            ]
-        )
+
+    def stats(d: dict) -> list[str]:
+        return [
+            f"{d['spheres_min']}–{d['spheres_max']}",
+            fmt_int(d["counts"]),
+            fmt_ms(d["ms_min"]),
+            fmt_ms(d["ms_max"]),
+            fmt_fixed(d["exponent"], 2),
+            fmt_fixed(d["r2"], 3),
+        ]
+
+    rows = _config_rows(fits, stats, leave_out=("scene",))
     headers, align = _config_headers(leave_out=("scene",))
     return Table(
         "cost-vs-spheres",

@@ -21,9 +21,9 @@ std::unique_ptr<Renderer> makeRenderer(RendererKind kind, const ParallelSettings
   std::unique_ptr<FrameSink> sink;
   if (present.mode == PresentMode::upload) {
     if (!present.device) throw std::invalid_argument("present mode 'upload' needs a Vulkan device");
-    sink = std::make_unique<gpu::FrameUpload>(present.device);
+    sink = gpu::makeFrameUpload(present.device);
   } else if (present.mode == PresentMode::window) {
-    sink = std::make_unique<gpu::SwapchainUpload>(present.swapchain);
+    sink = gpu::makeSwapchainUpload(present.swapchain);
   }
   return makeCpuRenderer(kind, settings, std::move(sink));
 }

@@ -49,6 +49,13 @@ nlohmann::json objectOf(const std::array<std::string_view, N>& keyNames, ValueOf
   return object;
 }
 
+// A part of the run that it may lack (a BVH, --counters, --agreement, a
+// device, a window): null without it, else `toJson` of it.
+template <typename Part, std::invocable<const Part&> ToJson>
+nlohmann::json orNull(const std::optional<Part>& part, ToJson toJson) {
+  return part ? toJson(*part) : nlohmann::json(nullptr);
+}
+
 [[noreturn]] void unhandledKey(std::string_view object) {
   throw std::logic_error("unhandled key of the metadata's " + std::string(object) + " object");
 }
@@ -228,9 +235,7 @@ nlohmann::json configJson(const RunConfig& config, const RunIdentity& id) {
   });
 }
 
-nlohmann::json accelStructureJson(const RendererInfo& renderer) {
-  if (!renderer.accelStructure) return nullptr;
-  const AccelStructureInfo& a = *renderer.accelStructure;
+nlohmann::json accelStructureJson(const AccelStructureInfo& a) {
   using Key = schema::MetadataAccelStructureKey;
   return objectOf<Key>(schema::kMetadataAccelStructureKeyNames, [&](Key key) -> nlohmann::json {
     switch (key) {
@@ -248,9 +253,7 @@ nlohmann::json accelStructureJson(const RendererInfo& renderer) {
   });
 }
 
-nlohmann::json gpuWalkProbeJson(const RendererInfo& renderer) {
-  if (!renderer.gpuWalkProbe) return nullptr;
-  const GpuWalkProbe& probe = *renderer.gpuWalkProbe;
+nlohmann::json gpuWalkProbeJson(const GpuWalkProbe& probe) {
   using Key = schema::MetadataGpuWalkProbeKey;
   return objectOf<Key>(schema::kMetadataGpuWalkProbeKeyNames, [&](Key key) -> nlohmann::json {
     switch (key) {
@@ -266,9 +269,7 @@ nlohmann::json gpuWalkProbeJson(const RendererInfo& renderer) {
   });
 }
 
-nlohmann::json laneCountersJson(const std::optional<LaneCounters>& counters) {
-  if (!counters) return nullptr;
-  const LaneCounters& c = *counters;
+nlohmann::json laneCountersJson(const LaneCounters& c) {
   using Key = schema::MetadataLaneCountersKey;
   return objectOf<Key>(schema::kMetadataLaneCountersKeyNames, [&](Key key) -> nlohmann::json {
     switch (key) {
@@ -291,9 +292,7 @@ nlohmann::json laneCountersJson(const std::optional<LaneCounters>& counters) {
   });
 }
 
-nlohmann::json agreementJson(const std::optional<ImageAgreement>& agreement) {
-  if (!agreement) return nullptr;
-  const ImageAgreement& a = *agreement;
+nlohmann::json agreementJson(const ImageAgreement& a) {
   using Key = schema::MetadataAgreementKey;
   return objectOf<Key>(schema::kMetadataAgreementKeyNames, [&](Key key) -> nlohmann::json {
     switch (key) {
@@ -309,9 +308,7 @@ nlohmann::json agreementJson(const std::optional<ImageAgreement>& agreement) {
   });
 }
 
-nlohmann::json deviceJson(const RunIdentity& id) {
-  if (!id.device) return nullptr;
-  const gpu::DeviceInfo& d = *id.device;
+nlohmann::json deviceJson(const gpu::DeviceInfo& d, bool validation) {
   using Key = schema::MetadataDeviceKey;
   return objectOf<Key>(schema::kMetadataDeviceKeyNames, [&](Key key) -> nlohmann::json {
     switch (key) {
@@ -327,15 +324,14 @@ nlohmann::json deviceJson(const RunIdentity& id) {
       case Key::api_version: return d.apiVersion;
       case Key::timestamp_period_ns: return d.timestampPeriodNs;
       case Key::timestamp_valid_bits: return d.timestampValidBits;
-      case Key::validation: return id.validation;
+      case Key::validation: return validation;
     }
     unhandledKey("device");
   });
 }
 
-nlohmann::json windowJson(const std::optional<WindowOutcome>& window) {
-  if (!window) return nullptr;
-  const gpu::SwapchainInfo& w = window->swapchain;
+nlohmann::json windowJson(const WindowOutcome& window) {
+  const gpu::SwapchainInfo& w = window.swapchain;
   using Key = schema::MetadataWindowKey;
   return objectOf<Key>(schema::kMetadataWindowKeyNames, [&](Key key) -> nlohmann::json {
     switch (key) {
@@ -345,7 +341,7 @@ nlohmann::json windowJson(const std::optional<WindowOutcome>& window) {
       case Key::swapchain_images: return w.imageCount;
       case Key::swapchain_recreations: return w.recreations;
       case Key::frames_presented: return w.framesPresented;
-      case Key::closed: return window->closed;
+      case Key::closed: return window.closed;
     }
     unhandledKey("window");
   });
@@ -436,12 +432,14 @@ nlohmann::json makeRunMetadata(const RunConfig& config, const RunIdentity& ident
       case RunMetadataKey::finished_at: value = formatRfc3339(times.finishedAt); break;
       case RunMetadataKey::outputs: value = outputsJson(config); break;
       case RunMetadataKey::prepare_ms: value = times.prepareMs; break;
-      case RunMetadataKey::accel_structure: value = accelStructureJson(identity.renderer); break;
-      case RunMetadataKey::gpu_walk_probe: value = gpuWalkProbeJson(identity.renderer); break;
-      case RunMetadataKey::lane_counters: value = laneCountersJson(laneCounters); break;
-      case RunMetadataKey::agreement: value = agreementJson(agreement); break;
-      case RunMetadataKey::device: value = deviceJson(identity); break;
-      case RunMetadataKey::window: value = windowJson(window); break;
+      case RunMetadataKey::accel_structure: value = orNull(identity.renderer.accelStructure, accelStructureJson); break;
+      case RunMetadataKey::gpu_walk_probe: value = orNull(identity.renderer.gpuWalkProbe, gpuWalkProbeJson); break;
+      case RunMetadataKey::lane_counters: value = orNull(laneCounters, laneCountersJson); break;
+      case RunMetadataKey::agreement: value = orNull(agreement, agreementJson); break;
+      case RunMetadataKey::device:
+        value = orNull(identity.device, [&](const gpu::DeviceInfo& d) { return deviceJson(d, identity.validation); });
+        break;
+      case RunMetadataKey::window: value = orNull(window, windowJson); break;
     }
   }
   return meta;

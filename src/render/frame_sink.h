@@ -6,9 +6,9 @@
 namespace rt {
 
 // Where a CPU renderer's Present phase hands each finished frame. The CPU
-// renderers know only this interface; the Vulkan upload into the present
-// image (gpu::FrameUpload) implements it, and the app decides which sink, if
-// any, a renderer gets.
+// renderers know only this interface; the Vulkan uploads into the present
+// image (gpu::makeFrameUpload) and into a window (gpu::makeSwapchainUpload)
+// implement it, and the app decides which sink, if any, a renderer gets.
 class FrameSink {
  public:
   virtual ~FrameSink() = default;

@@ -394,28 +394,12 @@ struct GPURenderer::SceneObjects {
 };
 
 GPURenderer::GPURenderer(std::shared_ptr<Context> device, PresentMode present, std::shared_ptr<Swapchain> window)
-    : context_(std::move(device)), presentMode_(present), window_(std::move(window)) {
-  if (!context_) throw std::invalid_argument("the GPU renderer needs a Vulkan device");
-  if (presentMode_ == PresentMode::window && !window_)
-    throw std::invalid_argument("present mode 'window' needs a swapchain");
-  frames_ =
-      translateVulkanErrors("GPU renderer set-up", [&] { return std::make_unique<FrameCommands>(context_->device()); });
-}
+    : DeviceRenderer("GPU renderer", std::move(device), present, std::move(window)) {}
 
-GPURenderer::~GPURenderer() {
-  if (!window_) return;  // every other phase waited for its own work
-  try {
-    context_->device().logical().waitIdle();
-  } catch (const vk::SystemError&) {
-    // A lost device runs nothing that could still read the image.
-  }
-}
+GPURenderer::~GPURenderer() { waitForWindowAtEnd(); }
 
 RendererInfo GPURenderer::info() const {
-  RendererInfo info;
-  info.kind = RendererKind::gpu;
-  info.threads = 0;  // the device schedules the work
-  info.lanes = 0;
+  RendererInfo info = deviceInfo(RendererKind::gpu);
   if (!scene_) return info;
   info.accelStructure = scene_->accel.info();
   if (scene_->grid && info.accelStructure) {
@@ -440,14 +424,12 @@ RendererInfo GPURenderer::info() const {
 }
 
 void GPURenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
-  if (scene.spheres.empty()) throw std::invalid_argument("the GPU renderer needs at least one sphere");
-  if (window_) translateVulkanErrors("GPU renderer prepare", [&] { context_->device().logical().waitIdle(); });
+  beginPrepare(scene);
   scene_.reset();  // the old objects go before new ones take their memory
-  gpuMs_.reset();
   counters_.reset();
   walkProbe_.reset();
-  requireSubgroupOperations(context_->device(), options);
-  requireHalfPrecision(context_->device(), options);
+  requireSubgroupOperations(device(), options);
+  requireHalfPrecision(device(), options);
   scene_ = translateVulkanErrors("GPU renderer prepare", [&] {
     return options.gpuBvh == GpuBvh::auto_ ? prepareFastestWalk(scene, extent, options)
                                            : prepareVariant(scene, extent, options, accelFor(scene, options));
@@ -461,9 +443,9 @@ std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareVariant(const Sce
                                                                        AccelStructure accel) {
   RenderOptions resolved = options;
   resolved.accel = accel.bvh() ? Accel::bvh : Accel::none;
-  refuseLoopsPastLavapipeLimit(context_->device(), scene, resolved);
-  return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, resolved,
-                                        std::move(accel), presentMode_);
+  refuseLoopsPastLavapipeLimit(device(), scene, resolved);
+  return std::make_unique<SceneObjects>(device(), frames().runner(), scene, extent, resolved, std::move(accel),
+                                        presentMode());
 }
 
 // --gpu-bvh auto: renders frame 0 with each candidate at the probe's size
@@ -482,7 +464,7 @@ std::unique_ptr<GPURenderer::SceneObjects> GPURenderer::prepareFastestWalk(const
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     std::unique_ptr<SceneObjects> objects;
     try {
-      refuseLoopsPastLavapipeLimit(context_->device(), scene, candidates[i]);
+      refuseLoopsPastLavapipeLimit(device(), scene, candidates[i]);
       objects = prepareVariant(scene, probeExtent, candidates[i], accelFor(scene, candidates[i]));
     } catch (const RendererUnavailable&) {
       continue;
@@ -533,7 +515,7 @@ std::optional<double> GPURenderer::renderWith(SceneObjects& s, const CameraFrame
   const FrameConstants constants =
       makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
   using CommandBuffer = vk::raii::CommandBuffer;
-  const std::optional<double> gpuMs = frames_->renderFrame(
+  const std::optional<double> gpuMs = frames().renderFrame(
       "raytrace dispatch",
       [&](const CommandBuffer& cb) {
         s.recordFrameReset(cb);
@@ -553,8 +535,6 @@ void GPURenderer::render(const CameraFrame& camera) {
   });
 }
 
-void GPURenderer::present() { prepared().output.present(frames_->runner(), frames_->profiler(), window_.get()); }
-
-void GPURenderer::readPresented(Image& target) { prepared().output.readPresented(frames_->runner(), target); }
+ShaderOutput& GPURenderer::output() { return prepared().output; }
 
 }  // namespace rt::gpu

@@ -2,17 +2,13 @@
 #include <memory>
 #include <optional>
 
-#include "render/renderer.h"
+#include "gpu/present/device_renderer.h"
 
 namespace rt {
 class AccelStructure;
 }
 
 namespace rt::gpu {
-
-class Context;
-class FrameCommands;
-class Swapchain;
 
 // The thesis' GPURenderer: a Vulkan compute shader, one invocation per
 // pixel, on any Vulkan 1.2 device (a GPU, or lavapipe on the CPU); its
@@ -21,7 +17,7 @@ class Swapchain;
 // constants every frame, the shader writes an rgba8 storage image, and
 // Present copies that into the present image. Vulkan stays out of this
 // header: the objects live in gpu_renderer.cpp.
-class GPURenderer final : public Renderer {
+class GPURenderer final : public DeviceRenderer {
  public:
   // `device` is required; `present` picks the Present path: `upload`
   // copies each frame into the present image, `none` leaves it in the
@@ -38,27 +34,20 @@ class GPURenderer final : public Renderer {
   void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override;
   // Records, submits and waits for the dispatch; GPU timestamps around it.
   void render(const CameraFrame& camera) override;
-  void present() override;
-  void readPresented(Image& target) override;
-  [[nodiscard]] std::optional<double> lastGpuMs() const override { return gpuMs_; }
   // --counters: the shader's tallies of the last frame (all its dispatches).
   [[nodiscard]] std::optional<LaneCounters> lastCounters() const override { return counters_; }
 
  private:
   struct SceneObjects;
   SceneObjects& prepared();  // throws std::logic_error before prepare()
+  ShaderOutput& output() override;
   std::unique_ptr<SceneObjects> prepareVariant(const Scene& scene, Extent extent, const RenderOptions& options,
                                                AccelStructure accel);
   std::unique_ptr<SceneObjects> prepareFastestWalk(const Scene& scene, Extent extent, const RenderOptions& options);
   double probeGpuMs(SceneObjects& objects, const CameraFrame& camera);
   std::optional<double> renderWith(SceneObjects& s, const CameraFrame& camera);
 
-  std::shared_ptr<Context> context_;  // declared first, so destroyed last
-  PresentMode presentMode_;
-  std::shared_ptr<Swapchain> window_;  // mode window only
-  std::unique_ptr<FrameCommands> frames_;
   std::unique_ptr<SceneObjects> scene_;
-  std::optional<double> gpuMs_;
   std::optional<LaneCounters> counters_;
   std::optional<GpuWalkProbe> walkProbe_;  // --gpu-bvh auto only
 };

@@ -121,21 +121,7 @@ void RaytracePipeline::recordBind(const vk::raii::CommandBuffer& cb, vk::Descrip
 
 RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const SceneBuffers& buffers,
                                    const DeviceImage& output)
-    : pool_(device.logical(), [] {
-        static constexpr std::array<vk::DescriptorPoolSize, 2> kSizes{
-            {{vk::DescriptorType::eStorageBuffer, kStorageBufferBindings}, {vk::DescriptorType::eStorageImage, 1}}};
-        // FreeDescriptorSet: the RAII set frees itself before the pool goes.
-        return vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
-                                            .maxSets = 1,
-                                            .poolSizeCount = kSizes.size(),
-                                            .pPoolSizes = kSizes.data()};
-      }()) {
-  const vk::DescriptorSetLayout layout = *pipeline.setLayout();
-  vk::raii::DescriptorSets sets(
-      device.logical(),
-      vk::DescriptorSetAllocateInfo{.descriptorPool = *pool_, .descriptorSetCount = 1, .pSetLayouts = &layout});
-  set_ = std::move(sets.front());
-
+    : set_(device, *pipeline.setLayout(), kBindings) {
   const auto whole = [](vk::Buffer buffer) {
     return vk::DescriptorBufferInfo{.buffer = buffer, .offset = 0, .range = VK_WHOLE_SIZE};
   };
@@ -147,18 +133,16 @@ RaytraceBindings::RaytraceBindings(const Device& device, const RaytracePipeline&
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};
   std::array<vk::WriteDescriptorSet, kStorageBufferBindings + 1> writes{};
   for (std::size_t i = 0; i < kStorageBufferBindings; ++i) {
-    writes[i] = {.dstSet = *set_,
-                 .dstBinding = kStorageBufferSlots[i],
+    writes[i] = {.dstBinding = kStorageBufferSlots[i],
                  .descriptorCount = 1,
                  .descriptorType = vk::DescriptorType::eStorageBuffer,
                  .pBufferInfo = &bufferInfos[i]};
   }
-  writes.back() = {.dstSet = *set_,
-                   .dstBinding = RT_BINDING_OUTPUT,
+  writes.back() = {.dstBinding = RT_BINDING_OUTPUT,
                    .descriptorCount = 1,
                    .descriptorType = vk::DescriptorType::eStorageImage,
                    .pImageInfo = &imageInfo};
-  device.logical().updateDescriptorSets(writes, {});
+  set_.write(device, writes);
 }
 
 }  // namespace rt::gpu

@@ -3,6 +3,7 @@
 #include <span>
 
 #include "gpu/compute/gpu_layout.h"
+#include "gpu/vulkan/descriptor_set.h"
 #include "gpu/vulkan/resources.h"
 #include "render/render_options.h"
 
@@ -61,11 +62,10 @@ class RaytraceBindings {
  public:
   RaytraceBindings(const Device& device, const RaytracePipeline& pipeline, const SceneBuffers& buffers,
                    const DeviceImage& output);
-  [[nodiscard]] vk::DescriptorSet set() const { return *set_; }
+  [[nodiscard]] vk::DescriptorSet set() const { return set_.handle(); }
 
  private:
-  vk::raii::DescriptorPool pool_;
-  vk::raii::DescriptorSet set_ = nullptr;
+  PooledDescriptorSet set_;
 };
 
 }  // namespace rt::gpu

@@ -3,14 +3,16 @@
 #include <stdexcept>
 
 #include "gpu/present/present_image.h"
+#include "gpu/present/staged_upload.h"
 #include "gpu/vulkan/context.h"
 
 namespace rt::gpu {
+namespace {
 
-// Declared in the order of creation: destroyed in reverse. The context
-// (FrameUpload::context_) outlives them.
-struct FrameUpload::Resources {
-  Resources(const Device& d, Extent e) : device(d), extent(e) {}
+// What prepare() makes for one extent, declared in the order of creation:
+// destroyed in reverse. The context (StagedUpload's destination) outlives them.
+struct PresentImageResources {
+  PresentImageResources(const Device& d, Extent e) : device(d), extent(e) {}
 
   const Device& device;
   Extent extent;
@@ -20,42 +22,41 @@ struct FrameUpload::Resources {
   Buffer readback{device, frameBytes(extent), vk::BufferUsageFlagBits::eTransferDst, MemoryUse::readback};
 };
 
-FrameUpload::FrameUpload(std::shared_ptr<Context> context) : context_(std::move(context)) {
-  if (!context_) throw std::invalid_argument("FrameUpload needs a Vulkan context");
-}
+class FrameUpload final : public StagedUpload<Context, PresentImageResources> {
+ public:
+  explicit FrameUpload(std::shared_ptr<Context> context)
+      : StagedUpload("FrameUpload", std::move(context), "a Vulkan context") {}
 
-FrameUpload::~FrameUpload() = default;
+ private:
+  void replace(std::unique_ptr<PresentImageResources>& resources, Extent extent) override {
+    resources.reset();  // the old present image goes before the new one is made
+    resources = translateVulkanErrors(
+        "present set-up", [&] { return std::make_unique<PresentImageResources>(destination().device(), extent); });
+  }
 
-void FrameUpload::prepare(Extent extent) {
-  if (resources_ && resources_->extent == extent) return;
-  resources_.reset();  // the old present image goes before the new one is made
-  resources_ =
-      translateVulkanErrors("present set-up", [&] { return std::make_unique<Resources>(context_->device(), extent); });
-}
+  // Staging copy, submit, wait: the whole Present phase.
+  void upload(PresentImageResources& r, std::span<const Rgba8> frame) override {
+    translateVulkanErrors("present", [&] {
+      copyFromFrame(frame, r.staging);
+      r.runner.run("present",
+                   [&](const vk::raii::CommandBuffer& cb) { r.presentImage.recordCopyFrom(cb, r.staging.handle()); });
+    });
+  }
 
-FrameUpload::Resources& FrameUpload::prepared() {
-  if (!resources_) throw std::logic_error("FrameUpload: prepare() was not called");
-  return *resources_;
-}
+  // The present image's contents, back on the host (saved frames, tests).
+  void download(PresentImageResources& r, Image& target) override {
+    translateVulkanErrors("frame readback", [&] {
+      r.runner.run("frame readback",
+                   [&](const vk::raii::CommandBuffer& cb) { r.presentImage.recordReadback(cb, r.readback.handle()); });
+      copyToImage(r.readback, target);
+    });
+  }
+};
 
-void FrameUpload::present(std::span<const Rgba8> frame) {
-  Resources& r = prepared();
-  if (frame.size() != r.extent.pixelCount()) throw std::logic_error("FrameUpload: frame size differs from the extent");
-  translateVulkanErrors("present", [&] {
-    copyFromFrame(frame, r.staging);
-    r.runner.run("present",
-                 [&](const vk::raii::CommandBuffer& cb) { r.presentImage.recordCopyFrom(cb, r.staging.handle()); });
-  });
-}
+}  // namespace
 
-void FrameUpload::readBack(Image& target) {
-  Resources& r = prepared();
-  if (target.extent() != r.extent) throw std::logic_error("FrameUpload: target extent differs");
-  translateVulkanErrors("frame readback", [&] {
-    r.runner.run("frame readback",
-                 [&](const vk::raii::CommandBuffer& cb) { r.presentImage.recordReadback(cb, r.readback.handle()); });
-    copyToImage(r.readback, target);
-  });
+std::unique_ptr<FrameSink> makeFrameUpload(std::shared_ptr<Context> context) {
+  return std::make_unique<FrameUpload>(std::move(context));
 }
 
 }  // namespace rt::gpu

@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "gpu/present/staged_upload.h"
 #include "gpu/present/swapchain.h"
 
 namespace rt::gpu {
@@ -20,10 +21,9 @@ std::vector<Buffer> stagingBuffers(const Device& device, Extent extent) {
   return buffers;
 }
 
-}  // namespace
-
-struct SwapchainUpload::Resources {
-  Resources(const Device& device, Extent e)
+// What prepare() makes for one extent.
+struct WindowUploadResources {
+  WindowUploadResources(const Device& device, Extent e)
       : extent(e),
         frame(device, e, vk::ImageUsageFlagBits::eTransferDst | vk::ImageUsageFlagBits::eTransferSrc),
         staging(stagingBuffers(device, e)) {}
@@ -35,58 +35,59 @@ struct SwapchainUpload::Resources {
   bool presented = false;
 };
 
-SwapchainUpload::SwapchainUpload(std::shared_ptr<Swapchain> swapchain) : swapchain_(std::move(swapchain)) {
-  if (!swapchain_) throw std::invalid_argument("SwapchainUpload needs a swapchain");
-}
+class SwapchainUpload final : public StagedUpload<Swapchain, WindowUploadResources> {
+ public:
+  explicit SwapchainUpload(std::shared_ptr<Swapchain> swapchain)
+      : StagedUpload("SwapchainUpload", std::move(swapchain), "a swapchain") {}
 
-SwapchainUpload::~SwapchainUpload() {
-  try {
-    swapchain_->device().logical().waitIdle();  // the last frames still read the buffers and the image
-  } catch (const vk::SystemError&) {
-    // A lost device runs nothing that could read them.
+  ~SwapchainUpload() override {
+    try {
+      destination().device().logical().waitIdle();  // the last frames still read the buffers and the image
+    } catch (const vk::SystemError&) {
+      // A lost device runs nothing that could read them.
+    }
   }
-}
 
-void SwapchainUpload::prepare(Extent extent) {
-  if (resources_ && resources_->extent == extent) return;
-  translateVulkanErrors("present set-up", [&] {
-    swapchain_->device().logical().waitIdle();
-    resources_.reset();
-    resources_ = std::make_unique<Resources>(swapchain_->device(), extent);
-  });
-}
-
-SwapchainUpload::Resources& SwapchainUpload::prepared() {
-  if (!resources_) throw std::logic_error("SwapchainUpload: prepare() was not called");
-  return *resources_;
-}
-
-void SwapchainUpload::present(std::span<const Rgba8> frame) {
-  Resources& r = prepared();
-  if (frame.size() != r.extent.pixelCount())
-    throw std::logic_error("SwapchainUpload: frame size differs from the extent");
-  translateVulkanErrors("present", [&] {
-    swapchain_->present(r.frame.handle(), r.extent, [&](const vk::raii::CommandBuffer& cb, std::uint32_t slot) {
-      // The slot's fence has signalled: its last copy out of this buffer is done.
-      const Buffer& staging = r.staging[slot];
-      copyFromFrame(frame, staging);
-      // The previous frame's blit out of the image (an earlier submission) is done before it is overwritten.
-      imageBarrier(cb, r.frame.handle(), {Stage::eTransfer, {}, Layout::eUndefined},
-                   {Stage::eTransfer, Access::eTransferWrite, Layout::eTransferDstOptimal});
-      cb.copyBufferToImage(staging.handle(), r.frame.handle(), Layout::eTransferDstOptimal, wholeImageRegion(r.extent));
-      imageBarrier(cb, r.frame.handle(), {Stage::eTransfer, Access::eTransferWrite, Layout::eTransferDstOptimal},
-                   {Stage::eTransfer, Access::eTransferRead, Layout::eTransferSrcOptimal});
-      r.lastSlot = slot;
-      r.presented = true;
+ private:
+  void replace(std::unique_ptr<WindowUploadResources>& resources, Extent extent) override {
+    translateVulkanErrors("present set-up", [&] {
+      destination().device().logical().waitIdle();
+      resources.reset();
+      resources = std::make_unique<WindowUploadResources>(destination().device(), extent);
     });
-  });
-}
+  }
 
-void SwapchainUpload::readBack(Image& target) {
-  const Resources& r = prepared();
-  if (target.extent() != r.extent) throw std::logic_error("SwapchainUpload: target extent differs");
-  if (!r.presented) throw std::logic_error("SwapchainUpload: no frame presented yet");
-  copyToImage(r.staging[r.lastSlot], target);
+  // Acquire, staging copy, upload, blit, present: the whole Present phase.
+  void upload(WindowUploadResources& r, std::span<const Rgba8> frame) override {
+    translateVulkanErrors("present", [&] {
+      destination().present(r.frame.handle(), r.extent, [&](const vk::raii::CommandBuffer& cb, std::uint32_t slot) {
+        // The slot's fence has signalled: its last copy out of this buffer is done.
+        const Buffer& staging = r.staging[slot];
+        copyFromFrame(frame, staging);
+        // The previous frame's blit out of the image (an earlier submission) is done before it is overwritten.
+        imageBarrier(cb, r.frame.handle(), {Stage::eTransfer, {}, Layout::eUndefined},
+                     {Stage::eTransfer, Access::eTransferWrite, Layout::eTransferDstOptimal});
+        cb.copyBufferToImage(staging.handle(), r.frame.handle(), Layout::eTransferDstOptimal,
+                             wholeImageRegion(r.extent));
+        imageBarrier(cb, r.frame.handle(), {Stage::eTransfer, Access::eTransferWrite, Layout::eTransferDstOptimal},
+                     {Stage::eTransfer, Access::eTransferRead, Layout::eTransferSrcOptimal});
+        r.lastSlot = slot;
+        r.presented = true;
+      });
+    });
+  }
+
+  // The frame last handed to the window, from its staging buffer.
+  void download(WindowUploadResources& r, Image& target) override {
+    if (!r.presented) throw std::logic_error("SwapchainUpload: no frame presented yet");
+    copyToImage(r.staging[r.lastSlot], target);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSink> makeSwapchainUpload(std::shared_ptr<Swapchain> swapchain) {
+  return std::make_unique<SwapchainUpload>(std::move(swapchain));
 }
 
 }  // namespace rt::gpu

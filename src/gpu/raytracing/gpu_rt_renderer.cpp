@@ -6,10 +6,8 @@
 #include "core/profiler.h"
 #include "gpu/compute/gpu_layout.h"
 #include "gpu/present/shader_output.h"
-#include "gpu/present/swapchain.h"
 #include "gpu/raytracing/ray_tracing_pipeline.h"
 #include "gpu/raytracing/sphere_acceleration.h"
-#include "gpu/vulkan/context.h"
 #include "gpu/vulkan/frame_commands.h"
 
 namespace rt::gpu {
@@ -56,28 +54,12 @@ struct GpuRtRenderer::SceneObjects {
 };
 
 GpuRtRenderer::GpuRtRenderer(std::shared_ptr<Context> device, PresentMode present, std::shared_ptr<Swapchain> window)
-    : context_(std::move(device)), presentMode_(present), window_(std::move(window)) {
-  if (!context_) throw std::invalid_argument("the ray-tracing pipeline renderer needs a Vulkan device");
-  if (presentMode_ == PresentMode::window && !window_)
-    throw std::invalid_argument("present mode 'window' needs a swapchain");
-  frames_ = translateVulkanErrors("ray-tracing pipeline renderer set-up",
-                                  [&] { return std::make_unique<FrameCommands>(context_->device()); });
-}
+    : DeviceRenderer("ray-tracing pipeline renderer", std::move(device), present, std::move(window)) {}
 
-GpuRtRenderer::~GpuRtRenderer() {
-  if (!window_) return;  // every other phase waited for its own work
-  try {
-    context_->device().logical().waitIdle();
-  } catch (const vk::SystemError&) {
-    // A lost device runs nothing that could still read the image.
-  }
-}
+GpuRtRenderer::~GpuRtRenderer() { waitForWindowAtEnd(); }
 
 RendererInfo GpuRtRenderer::info() const {
-  RendererInfo info;
-  info.kind = RendererKind::gpu_rt;
-  info.threads = 0;  // the device schedules the work
-  info.lanes = 0;
+  RendererInfo info = deviceInfo(RendererKind::gpu_rt);
   if (!scene_) return info;
   info.accelStructure = AccelStructureInfo{.kind = Accel::bvh,
                                            .buildMs = scene_->structure.buildMs(),
@@ -92,14 +74,10 @@ RendererInfo GpuRtRenderer::info() const {
 }
 
 void GpuRtRenderer::prepare(const Scene& scene, Extent extent, const RenderOptions& options) {
-  if (scene.spheres.empty()) throw std::invalid_argument("the ray-tracing pipeline renderer needs at least one sphere");
-  if (window_) {
-    translateVulkanErrors("ray-tracing pipeline renderer prepare", [&] { context_->device().logical().waitIdle(); });
-  }
+  beginPrepare(scene);
   scene_.reset();  // the old objects go before new ones take their memory
-  gpuMs_.reset();
   scene_ = translateVulkanErrors("ray-tracing pipeline renderer prepare", [&] {
-    return std::make_unique<SceneObjects>(context_->device(), frames_->runner(), scene, extent, options, presentMode_);
+    return std::make_unique<SceneObjects>(device(), frames().runner(), scene, extent, options, presentMode());
   });
 }
 
@@ -114,15 +92,13 @@ void GpuRtRenderer::render(const CameraFrame& camera) {
       makeFrameConstants(s.shading, static_cast<std::uint32_t>(s.scene.spheres.size()), camera, s.extent);
   using CommandBuffer = vk::raii::CommandBuffer;
   translateVulkanErrors("render", [&] {
-    gpuMs_ = frames_->renderFrame(
+    gpuMs_ = frames().renderFrame(
         "trace rays", [&](const CommandBuffer& cb) { s.output.recordBeforeShaderWrites(cb); },
         [&](const CommandBuffer& cb) { s.pipeline.recordTrace(cb, s.bindings.set(), constants, s.extent); },
         [](const CommandBuffer&) {});
   });
 }
 
-void GpuRtRenderer::present() { prepared().output.present(frames_->runner(), frames_->profiler(), window_.get()); }
-
-void GpuRtRenderer::readPresented(Image& target) { prepared().output.readPresented(frames_->runner(), target); }
+ShaderOutput& GpuRtRenderer::output() { return prepared().output; }
 
 }  // namespace rt::gpu

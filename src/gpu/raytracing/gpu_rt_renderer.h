@@ -2,13 +2,9 @@
 #include <memory>
 #include <optional>
 
-#include "render/renderer.h"
+#include "gpu/present/device_renderer.h"
 
 namespace rt::gpu {
-
-class Context;
-class FrameCommands;
-class Swapchain;
 
 // The GPU's reference renderer (gpu_rt): what a user of a Vulkan GPU would
 // pick instead of our compute BVH, the driver's own acceleration structure
@@ -17,7 +13,7 @@ class Swapchain;
 // renderer's, in the same GLSL; the driver finds the nearest sphere, whose
 // float test is our intersection shader. Needs a device opened with
 // ContextOptions::rayTracing. Vulkan stays out of this header.
-class GpuRtRenderer final : public Renderer {
+class GpuRtRenderer final : public DeviceRenderer {
  public:
   // As GPURenderer's: `present` picks the Present path, `window` the
   // swapchain of mode window. Throws std::invalid_argument without a device.
@@ -31,20 +27,13 @@ class GpuRtRenderer final : public Renderer {
   void prepare(const Scene& scene, Extent extent, const RenderOptions& options) override;
   // Records, submits and waits for one trace of the frame; GPU timestamps around it.
   void render(const CameraFrame& camera) override;
-  void present() override;
-  void readPresented(Image& target) override;
-  [[nodiscard]] std::optional<double> lastGpuMs() const override { return gpuMs_; }
 
  private:
   struct SceneObjects;
   SceneObjects& prepared();  // throws std::logic_error before prepare()
+  ShaderOutput& output() override;
 
-  std::shared_ptr<Context> context_;  // declared first, so destroyed last
-  PresentMode presentMode_;
-  std::shared_ptr<Swapchain> window_;
-  std::unique_ptr<FrameCommands> frames_;
   std::unique_ptr<SceneObjects> scene_;
-  std::optional<double> gpuMs_;
 };
 
 }  // namespace rt::gpu

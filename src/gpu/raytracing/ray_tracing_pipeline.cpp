@@ -181,44 +181,26 @@ void RayTracingPipeline::recordTrace(const vk::raii::CommandBuffer& cb, vk::Desc
 RayTracingBindings::RayTracingBindings(const Device& device, const RayTracingPipeline& pipeline,
                                        vk::AccelerationStructureKHR topLevel, vk::Buffer spheres,
                                        const DeviceImage& output)
-    : pool_(device.logical(), [] {
-        static constexpr std::array<vk::DescriptorPoolSize, 3> kSizes{
-            {{vk::DescriptorType::eAccelerationStructureKHR, 1},
-             {vk::DescriptorType::eStorageBuffer, 1},
-             {vk::DescriptorType::eStorageImage, 1}}};
-        // FreeDescriptorSet: the RAII set frees itself before the pool goes.
-        return vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
-                                            .maxSets = 1,
-                                            .poolSizeCount = kSizes.size(),
-                                            .pPoolSizes = kSizes.data()};
-      }()) {
-  const vk::DescriptorSetLayout layout = *pipeline.setLayout();
-  vk::raii::DescriptorSets sets(
-      device.logical(),
-      vk::DescriptorSetAllocateInfo{.descriptorPool = *pool_, .descriptorSetCount = 1, .pSetLayouts = &layout});
-  set_ = std::move(sets.front());
+    : set_(device, *pipeline.setLayout(), kBindings) {
   const vk::WriteDescriptorSetAccelerationStructureKHR structure{.accelerationStructureCount = 1,
                                                                  .pAccelerationStructures = &topLevel};
   const vk::DescriptorBufferInfo sphereInfo{.buffer = spheres, .offset = 0, .range = VK_WHOLE_SIZE};
   const vk::DescriptorImageInfo imageInfo{.imageView = output.view(), .imageLayout = vk::ImageLayout::eGeneral};
-  const std::array<vk::WriteDescriptorSet, 3> writes{{
+  std::array<vk::WriteDescriptorSet, 3> writes{{
       {.pNext = &structure,
-       .dstSet = *set_,
        .dstBinding = RT_BINDING_TLAS,
        .descriptorCount = 1,
        .descriptorType = vk::DescriptorType::eAccelerationStructureKHR},
-      {.dstSet = *set_,
-       .dstBinding = RT_BINDING_SPHERES,
+      {.dstBinding = RT_BINDING_SPHERES,
        .descriptorCount = 1,
        .descriptorType = vk::DescriptorType::eStorageBuffer,
        .pBufferInfo = &sphereInfo},
-      {.dstSet = *set_,
-       .dstBinding = RT_BINDING_OUTPUT,
+      {.dstBinding = RT_BINDING_OUTPUT,
        .descriptorCount = 1,
        .descriptorType = vk::DescriptorType::eStorageImage,
        .pImageInfo = &imageInfo},
   }};
-  device.logical().updateDescriptorSets(writes, {});
+  set_.write(device, writes);
 }
 
 }  // namespace rt::gpu

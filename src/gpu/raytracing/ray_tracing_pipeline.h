@@ -6,6 +6,7 @@
 // the descriptor set that binds the top-level structure, the spheres and the
 // output image.
 #include "gpu/compute/gpu_layout.h"
+#include "gpu/vulkan/descriptor_set.h"
 #include "gpu/vulkan/resources.h"
 
 namespace rt::gpu {
@@ -42,11 +43,10 @@ class RayTracingBindings {
  public:
   RayTracingBindings(const Device& device, const RayTracingPipeline& pipeline, vk::AccelerationStructureKHR topLevel,
                      vk::Buffer spheres, const DeviceImage& output);
-  [[nodiscard]] vk::DescriptorSet set() const { return *set_; }
+  [[nodiscard]] vk::DescriptorSet set() const { return set_.handle(); }
 
  private:
-  vk::raii::DescriptorPool pool_;
-  vk::raii::DescriptorSet set_ = nullptr;
+  PooledDescriptorSet set_;
 };
 
 }  // namespace rt::gpu
