@@ -71,9 +71,25 @@ void flushCounters() {
   addToCounter(RT_COUNTER_SHADE_LANES_ACTIVE, tallyShadeLanesActive);
 }
 
+// The best hit of the search under way, shared by the functions of the
+// walks: its distance and sphere index.
+float searchBest;
+int searchBestIndex;
+
+// A search starts with no hit and nothing counted: each of the searches
+// below begins its own, so that each is the nearest hit of its ray alone,
+// as its CPU twin is (docs/render-model.md section 9).
+void beginSearch() {
+  searchBest = 1.0 / 0.0;  // +infinity
+  searchBestIndex = -1;
+  searchNodes = 0u;
+  searchSpheres = 0u;
+}
+
 // Brute force ================================================================================
 // Brute force: the nearest hit over all spheres; on an exact tie the lower index wins.
 RaycastHit nearestHitOfAll(Ray ray) {
+  beginSearch();
   float best = 1.0 / 0.0;  // +infinity
   int bestIndex = -1;
   for (uint i = 0u; i < pc.sphereCount; ++i) {
@@ -105,40 +121,28 @@ float traversalPad(vec3 origin) {
 // 1 / direction, with a zero component made tiny (sign kept, -0 included),
 // so that the slab test never computes 0 * infinity, and Vulkan's division
 // stays inside the range where its precision is defined.
-vec3 inverseDirection(vec3 d) {
+vec3 inverseDirection(vec3 direction) {
   const float tiny = 1e-30;
-  uvec3 signs = floatBitsToUint(d) & 0x80000000u;
+  uvec3 signs = floatBitsToUint(direction) & 0x80000000u;
   vec3 signedTiny = uintBitsToFloat(signs | floatBitsToUint(tiny));
-  return 1.0 / mix(d, signedTiny, lessThan(abs(d), vec3(tiny)));
+  return 1.0 / mix(direction, signedTiny, lessThan(abs(direction), vec3(tiny)));
 }
 
-// The best hit of the search under way, shared by the functions of both
-// walks: its distance and sphere index.
-float searchBest;
-int searchBestIndex;
-
-// A search starts with no hit and nothing counted.
-void beginSearch() {
-  searchBest = 1.0 / 0.0;  // +infinity
-  searchBestIndex = -1;
-  searchNodes = 0u;
-  searchSpheres = 0u;
-}
-
-// Whether the ray may meet a sphere inside the box lo..hi nearer than the
-// best hit (+ pad); and the distance at which it enters the box. The CPU
-// kernels' slab test, but on a box the upload widened already, by the pad
-// of every ray the scene traces (rt::sceneTraversalPad), which is at least
-// this ray's `pad`: widening it here, ray by ray, took 12 of a visit's
-// additions (docs/experiments/gpu-traversal.md).
-bool boxReachable(vec3 lo, vec3 hi, Ray ray, vec3 inverse, float pad, out float entry) {
+// Whether the ray may meet a sphere inside the box lo..hi nearer than
+// `best` (+ pad); and the distance at which it enters the box. The CPU
+// kernels' boxReachable, but on a box the upload widened already, by the
+// pad of every ray the scene traces (rt::sceneTraversalPad), which is at
+// least this ray's `pad`: widening it here, ray by ray, took 12 of a
+// visit's additions (docs/experiments/gpu-traversal.md). Hence its own name
+// (docs/render-model.md section 9).
+bool prewidenedBoxReachable(vec3 lo, vec3 hi, Ray ray, vec3 inverse, float pad, float best, out float entry) {
   vec3 t0 = (lo - toFloat3(ray.origin)) * inverse;
   vec3 t1 = (hi - toFloat3(ray.origin)) * inverse;
   vec3 near = min(t0, t1);
   vec3 far = max(t0, t1);
   entry = max(max(near.x, near.y), near.z);
   float leave = min(min(far.x, far.y), far.z);
-  return entry <= leave && leave >= -pad && entry <= searchBest + pad;
+  return entry <= leave && leave >= -pad && entry <= best + pad;
 }
 
 // The scene index of leaf slot k of the BVH walked.
@@ -189,6 +193,7 @@ bool leafTestedOrReachable(bool reach, uint child, uint count, Ray ray) {
 // side by side, so that a push or a pop is one 8-byte access of the
 // invocation's local memory rather than two of 4 bytes.
 RaycastHit nearestHitInBvh(Ray ray) {
+  beginSearch();
   vec3 inverse = inverseDirection(toFloat3(ray.direction));
   float pad = traversalPad(toFloat3(ray.origin));
   uvec2 stack[BVH_STACK_SIZE];  // node, floatBitsToUint(entry)
@@ -199,8 +204,10 @@ RaycastHit nearestHitInBvh(Ray ray) {
     uvec4 lo0 = bvhNodes[node * 4u], hi0 = bvhNodes[node * 4u + 1u];
     uvec4 lo1 = bvhNodes[node * 4u + 2u], hi1 = bvhNodes[node * 4u + 3u];
     float entry0, entry1;
-    bool reach0 = boxReachable(uintBitsToFloat(lo0.xyz), uintBitsToFloat(hi0.xyz), ray, inverse, pad, entry0);
-    bool reach1 = boxReachable(uintBitsToFloat(lo1.xyz), uintBitsToFloat(hi1.xyz), ray, inverse, pad, entry1);
+    bool reach0 =
+        prewidenedBoxReachable(uintBitsToFloat(lo0.xyz), uintBitsToFloat(hi0.xyz), ray, inverse, pad, searchBest, entry0);
+    bool reach1 =
+        prewidenedBoxReachable(uintBitsToFloat(lo1.xyz), uintBitsToFloat(hi1.xyz), ray, inverse, pad, searchBest, entry1);
     reach0 = leafTestedOrReachable(reach0, lo0.w, hi0.w, ray);
     reach1 = leafTestedOrReachable(reach1, lo1.w, hi1.w, ray);
     if (reach0 && reach1) {
@@ -256,8 +263,8 @@ void pushWideChild(uint child, float entry) {
 }
 
 // The slab test of four children's boxes (one vec4 per plane), widened by
-// `pad` as boxReachable() widens a binary node's: which of them the ray may
-// meet nearer than the best hit + pad, and where it enters each.
+// `pad` as the CPU kernels' boxReachable() widens a box: which of them the
+// ray may meet nearer than the best hit + pad, and where it enters each.
 bvec4 wideBoxesReachable(uint base, uint upper, Ray ray, vec3 inverse, float pad, out vec4 entry) {
   vec4 t0x = (uintBitsToFloat(wideNodes[base + 0u + upper]) - pad - toFloat(ray.origin.x)) * inverse.x;
   vec4 t0y = (uintBitsToFloat(wideNodes[base + 2u + upper]) - pad - toFloat(ray.origin.y)) * inverse.y;
@@ -325,6 +332,7 @@ bool popWideChild(float pad, out uint child) {
 // argues. The stack holds at most seven children per level below the root
 // (WIDE_STACK_SIZE, from the tree's depth).
 RaycastHit nearestHitInWideBvh(Ray ray) {
+  beginSearch();
   vec3 inverse = inverseDirection(toFloat3(ray.direction));
   float pad = traversalPad(toFloat3(ray.origin));
   wideStackTop = 0;
@@ -377,6 +385,7 @@ void testSpheresKeptApart(Ray ray) {
 // list: 1.11x faster at 10,000 spheres on the H200 than a sphere loop
 // inside the cell loop (docs/experiments/gpu-traversal.md).
 RaycastHit nearestHitInGrid(Ray ray) {
+  beginSearch();
   testSpheresKeptApart(ray);
   vec3 origin = toFloat3(ray.origin);
   vec3 inverse = inverseDirection(toFloat3(ray.direction));
@@ -387,7 +396,8 @@ RaycastHit nearestHitInGrid(Ray ray) {
   // as a binary node's box past its spheres: the same slab test clips the
   // ray, and skips the cells where a sphere kept apart is hit before them.
   float enter;
-  if (!boxReachable(gridOrigin, gridOrigin + vec3(cells) * GRID_CELL_SIZE, ray, inverse, pad, enter)) {
+  if (!prewidenedBoxReachable(gridOrigin, gridOrigin + vec3(cells) * GRID_CELL_SIZE, ray, inverse, pad, searchBest,
+                              enter)) {
     return hitRecord(ray, toReal(searchBest), searchBestIndex);
   }
   vec3 start = enter > 0.0 ? origin + enter * toFloat3(ray.direction) : origin;
@@ -437,7 +447,6 @@ RaycastHit nearestHitInGrid(Ray ray) {
 
 // The one spatial query of the shader; the variant is fixed per pipeline.
 RaycastHit nearestHit(Ray ray) {
-  beginSearch();
   if (!USE_BVH) return nearestHitOfAll(ray);
   if (GRID) return nearestHitInGrid(ray);
   return WIDE_BVH ? nearestHitInWideBvh(ray) : nearestHitInBvh(ray);

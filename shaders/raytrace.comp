@@ -113,7 +113,7 @@ layout(std430, set = 0, binding = RT_BINDING_LOOP_GUARD) buffer LoopGuard {
 bool insideImage(ivec2 pixel) { return pixel.x < pc.width && pixel.y < pc.height; }
 
 void renderPixel(ivec2 pixel) {
-  Ray ray = primaryRay(pixel);
+  Ray ray = primaryRay(pixel.x, pixel.y);
   real3 color = TWO_PASS ? traceTwoPass(ray) : traceSinglePass(ray);
   imageStore(outputImage, pixel, toRgba8(color));
 }

@@ -116,13 +116,13 @@ vec3 primaryRayDirection(ivec2 pixel) {
 // The camera ray through the pixel's centre. Its direction is computed in
 // float and normalised in the model's type: pixel coordinates past 2048
 // have no half-precision value (docs/render-model.md section 10).
-Ray primaryRay(ivec2 pixel) {
-  return Ray(toReal3(pc.cameraPosition), normalize(toReal3(primaryRayDirection(pixel))));
+Ray primaryRay(int x, int y) {
+  return Ray(toReal3(pc.cameraPosition), normalize(toReal3(primaryRayDirection(ivec2(x, y)))));
 }
 
 // Clamp and round(255 c) here, so that the value stored is k / 255 exactly
 // and the rgba8 conversion cannot round differently from the CPU renderers.
-vec4 toRgba8(real3 c) {
-  return vec4(floor(clamp(toFloat3(c), 0.0, 1.0) * 255.0 + 0.5) / 255.0, 1.0);
+vec4 toRgba8(real3 color) {
+  return vec4(floor(clamp(toFloat3(color), 0.0, 1.0) * 255.0 + 0.5) / 255.0, 1.0);
 }
 

@@ -154,11 +154,11 @@ inline Vec3<Real> traceTwoPass(const ShadingInputs<Real>& in, Ray<Real> ray,
 
 // docs/render-model.md section 7: clamp to [0, 1], round(255 c), opaque, no gamma.
 template <typename Real>
-inline Rgba8 toRgba8(const Vec3<Real>& c) {
+inline Rgba8 toRgba8(const Vec3<Real>& color) {
   const auto channel = [](Real v) {
     return static_cast<std::uint8_t>(std::clamp(v, Real(0), Real(1)) * Real(255) + Real(0.5));
   };
-  return {channel(c.x), channel(c.y), channel(c.z), 255};
+  return {channel(color.x), channel(color.y), channel(color.z), 255};
 }
 
 }  // namespace rt::kernel

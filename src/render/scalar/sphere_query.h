@@ -70,17 +70,18 @@ inline RaycastHit<Real> nearestHitOfAll(const Ray<Real>& ray, std::span<const Sp
 // A component that is exactly zero becomes a tiny one of the same sign, so
 // that the slab test's 0 * infinity never makes a NaN.
 template <typename Real>
-inline Vec3<Real> inverseDirection(const Vec3<Real>& d) {
+inline Vec3<Real> inverseDirection(const Vec3<Real>& direction) {
   const auto safe = [](Real c) { return std::abs(c) < Real(1e-30) ? std::copysign(Real(1e-30), c) : c; };
-  return Real(1) / Vec3<Real>(safe(d.x), safe(d.y), safe(d.z));
+  return Real(1) / Vec3<Real>(safe(direction.x), safe(direction.y), safe(direction.z));
 }
 
-// Whether the ray may meet a sphere inside `node`'s box, widened by `pad`,
-// nearer than `best` (+ pad).
+// Whether the ray may meet a sphere inside the box lo..hi, widened by
+// `pad`, nearer than `best` (+ pad).
 template <typename Real>
-inline bool boxReachable(const BvhNode& node, const Ray<Real>& ray, const Vec3<Real>& inverse, Real pad, Real best) {
-  const Vec3<Real> t0 = (Vec3<Real>(node.lo) - pad - ray.origin) * inverse;
-  const Vec3<Real> t1 = (Vec3<Real>(node.hi) + pad - ray.origin) * inverse;
+inline bool boxReachable(const glm::vec3& lo, const glm::vec3& hi, const Ray<Real>& ray, const Vec3<Real>& inverse,
+                         Real pad, Real best) {
+  const Vec3<Real> t0 = (Vec3<Real>(lo) - pad - ray.origin) * inverse;
+  const Vec3<Real> t1 = (Vec3<Real>(hi) + pad - ray.origin) * inverse;
   const Vec3<Real> near = glm::min(t0, t1);
   const Vec3<Real> far = glm::max(t0, t1);
   const Real tmin = std::max({near.x, near.y, near.z});
@@ -88,14 +89,17 @@ inline bool boxReachable(const BvhNode& node, const Ray<Real>& ray, const Vec3<R
   return tmin <= tmax && tmax >= -pad && tmin <= best + pad;
 }
 
-// The pad of this precision's sphere test: traversalPad for float, the
-// double reference's own (double_traversal_pad.h) for double.
+// The pad of a ray from `origin` for this precision's sphere test:
+// rt::traversalPad (render/accel/bvh.h, from the bound of |origin|) for
+// float, the double reference's own (double_traversal_pad.h) for double.
 template <typename Real>
-inline Real traversalPadOf(const Bvh& bvh, Real originMaxCoordinate) {
+inline Real traversalPad(const Bvh& bvh, const Vec3<Real>& origin) {
+  const Vec3<Real> a = glm::abs(origin);
+  const Real originMaxCoordinate = std::max({a.x, a.y, a.z});
   if constexpr (std::is_same_v<Real, double>) {
     return doubleTraversalPad(bvh, originMaxCoordinate);
   } else {
-    return traversalPad(bvh, static_cast<float>(originMaxCoordinate));
+    return rt::traversalPad(bvh, static_cast<float>(originMaxCoordinate));
   }
 }
 
@@ -105,8 +109,7 @@ inline Real traversalPadOf(const Bvh& bvh, Real originMaxCoordinate) {
 template <typename Real>
 inline RaycastHit<Real> nearestHitInBvh(const Ray<Real>& ray, std::span<const Sphere> spheres, const Bvh& bvh) {
   const Vec3<Real> inverse = inverseDirection(ray.direction);
-  const Vec3<Real> a = glm::abs(ray.origin);
-  const Real pad = traversalPadOf<Real>(bvh, std::max({a.x, a.y, a.z}));
+  const Real pad = traversalPad(bvh, ray.origin);
   Real best = std::numeric_limits<Real>::infinity();
   int bestIndex = -1;
   std::uint32_t stack[kBvhMaxDepth + 2];
@@ -114,7 +117,7 @@ inline RaycastHit<Real> nearestHitInBvh(const Ray<Real>& ray, std::span<const Sp
   stack[top++] = 0;
   while (top > 0) {
     const BvhNode& node = bvh.nodes[stack[--top]];
-    if (!boxReachable(node, ray, inverse, pad, best)) continue;
+    if (!boxReachable(node.lo, node.hi, ray, inverse, pad, best)) continue;
     if (!node.leaf()) {
       const bool negative = ray.direction[node.axis()] < Real(0);
       stack[top++] = node.first + (negative ? 0u : 1u);  // far child

@@ -11,15 +11,17 @@
 // per-target namespace, after the packet types, once per Highway target.
 
 // One sphere against every lane (the scalar intersectSphere), and where it
-// is hit nearer than the lane's best, it becomes the best. With kTieByIndex an exact tie goes to the
+// is hit nearer than the lane's best, it becomes the best: the scalar
+// walks' `t < best` step folded in, since a lane cannot branch. A contract
+// of its own, hence its own name (docs/render-model.md section 9). With kTieByIndex an exact tie goes to the
 // lower index (needed where spheres come in tree order; brute force visits
 // them in index order, where `<` alone settles ties the same way).
 // kSphereExit / kDiscriminantExit are the thesis' two SIMD early exits.
 // The sphere's values come in the lane type (LaneT<D>).
 template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
-HWY_INLINE void IntersectSphere(D d, LaneT<D> centerX, LaneT<D> centerY, LaneT<D> centerZ, LaneT<D> radiusSquared,
-                                LaneT<D> index, const RayX<D>& ray, MaskF<D> active, VecF<D>& bestT,
-                                VecF<D>& bestIndex) {
+HWY_INLINE void IntersectSphereIntoBest(D d, LaneT<D> centerX, LaneT<D> centerY, LaneT<D> centerZ,
+                                        LaneT<D> radiusSquared, LaneT<D> index, const RayX<D>& ray, MaskF<D> active,
+                                        VecF<D>& bestT, VecF<D>& bestIndex) {
   const VecF<D> eps = Splat(d, kEpsilon);
   const VecF<D> dx = Get(ray.direction.x);
   const VecF<D> dy = Get(ray.direction.y);
@@ -66,11 +68,11 @@ HWY_INLINE const SphereData<LaneT<D>>& SpheresOf(const FrameParams& f) {
 // Sphere i of the scene's arrays (the index is exact in f16 up to
 // kHalfPrecisionMaxSpheres, which prepare() enforces).
 template <bool kSphereExit, bool kDiscriminantExit, bool kTieByIndex, class D>
-HWY_INLINE void IntersectSphere(D d, const SphereData<LaneT<D>>& s, int i, const RayX<D>& ray, MaskF<D> active,
-                                VecF<D>& bestT, VecF<D>& bestIndex) {
-  IntersectSphere<kSphereExit, kDiscriminantExit, kTieByIndex>(
-      d, s.centerX[i], s.centerY[i], s.centerZ[i], s.radiusSquared[i], LaneValue<LaneT<D>>(static_cast<float>(i)), ray,
-      active, bestT, bestIndex);
+HWY_INLINE void IntersectSphereIntoBest(D d, const RayX<D>& ray, const SphereData<LaneT<D>>& spheres, int i,
+                                        MaskF<D> active, VecF<D>& bestT, VecF<D>& bestIndex) {
+  IntersectSphereIntoBest<kSphereExit, kDiscriminantExit, kTieByIndex>(
+      d, spheres.centerX[i], spheres.centerY[i], spheres.centerZ[i], spheres.radiusSquared[i],
+      LaneValue<LaneT<D>>(static_cast<float>(i)), ray, active, bestT, bestIndex);
 }
 
 // base[i] per lane. Highway gathers 32- and 64-bit lanes only; 16-bit
@@ -99,47 +101,49 @@ HWY_INLINE Vec3x<D> Gather3(D d, const LaneT<D>* x, const LaneT<D>* y, const Lan
 // ray leaves the sphere (it started inside) the normal is turned to the
 // side the ray sees (docs/render-model.md section 4).
 template <class D>
-HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereData<LaneT<D>>& s, const RayX<D>& ray, VecF<D> bestT,
-                                    VecF<D> bestIndex) {
-  const MaskF<D> hit = hn::Ge(bestIndex, hn::Zero(d));
+HWY_INLINE RaycastHitX<D> HitRecord(D d, const SphereData<LaneT<D>>& spheres, const RayX<D>& ray, VecF<D> t,
+                                    VecF<D> index) {
+  const MaskF<D> hit = hn::Ge(index, hn::Zero(d));
   // Missed lanes read sphere 0 at distance 0: junk, but finite junk.
   const hn::RebindToSigned<D> di;
-  const auto index = hn::ConvertTo(di, hn::Max(bestIndex, hn::Zero(d)));
-  const VecF<D> distance = hn::IfThenElseZero(hit, bestT);
+  const auto sphere = hn::ConvertTo(di, hn::Max(index, hn::Zero(d)));
+  const VecF<D> distance = hn::IfThenElseZero(hit, t);
   const Vec3x<D> position = Add(d, ray.origin, Scale(d, distance, ray.direction));
-  const Vec3x<D> center = Gather3(d, s.centerX, s.centerY, s.centerZ, index);
-  const Vec3x<D> outward = Divide(d, Sub(d, position, center), GatherLanes(d, s.radius, index));
+  const Vec3x<D> center = Gather3(d, spheres.centerX, spheres.centerY, spheres.centerZ, sphere);
+  const Vec3x<D> outward = Divide(d, Sub(d, position, center), GatherLanes(d, spheres.radius, sphere));
   const MaskF<D> leaving = hn::Gt(Dot(ray.direction, outward), hn::Zero(d));
   return {.hit = HoldMask(d, hit),
           .position = position,
           .normal = Select(d, leaving, Scale(d, Splat(d, -1.0f), outward), outward),
           .distance = Hold(d, distance),
-          .sphereColor = Gather3(d, s.colorR, s.colorG, s.colorB, index)};
+          .sphereColor = Gather3(d, spheres.colorR, spheres.colorG, spheres.colorB, sphere)};
 }
 
 // Brute force: every sphere in index order. Lanes outside `active` (past
 // the row's end, or already missed) report no hit.
 template <bool kSphereExit, bool kDiscriminantExit, bool kCount, class D>
-HWY_INLINE RaycastHitX<D> NearestHitOfAll(D d, const SphereData<LaneT<D>>& s, const RayX<D>& ray, MaskF<D> active,
+HWY_INLINE RaycastHitX<D> NearestHitOfAll(D d, const SphereData<LaneT<D>>& spheres, const RayX<D>& ray, MaskF<D> active,
                                           Tally<kCount> tally) {
   VecF<D> bestT = Splat(d, std::numeric_limits<float>::infinity());
   VecF<D> bestIndex = Splat(d, -1.0f);
-  for (int i = 0; i < s.count; ++i) {
-    IntersectSphere<kSphereExit, kDiscriminantExit, false>(d, s, i, ray, active, bestT, bestIndex);
+  for (int i = 0; i < spheres.count; ++i) {
+    IntersectSphereIntoBest<kSphereExit, kDiscriminantExit, false>(d, ray, spheres, i, active, bestT, bestIndex);
   }
   if constexpr (kCount) {
-    const auto n = static_cast<std::size_t>(s.count);
+    const auto n = static_cast<std::size_t>(spheres.count);
     tally.Spheres(n, n * hn::Lanes(d), n * hn::CountTrue(d, active));
   }
-  return HitRecord(d, s, ray, bestT, bestIndex);
+  return HitRecord(d, spheres, ray, bestT, bestIndex);
 }
 
 // The lanes of `active` that may meet a sphere inside the box lo..hi,
 // widened by `pad` (per lane: traversalPad() of its origin), nearer than
-// their best; `entry` receives where each lane enters the widened box.
+// their `best` (+ pad); `entry` receives where each lane enters the
+// widened box. The scalar boxReachable per lane (docs/render-model.md
+// section 9).
 template <class D>
 HWY_INLINE MaskF<D> BoxReachable(D d, const float lo[3], const float hi[3], const RayX<D>& ray, const Vec3x<D>& inverse,
-                                 VecF<D> pad, VecF<D> bestT, MaskF<D> active, VecF<D>& entry) {
+                                 VecF<D> pad, VecF<D> best, MaskF<D> active, VecF<D>& entry) {
   const auto slab = [&](float l, float h, VecF<D> o, VecF<D> inv, VecF<D>& near, VecF<D>& far) {
     const VecF<D> t0 = hn::Mul(hn::Sub(hn::Sub(hn::Set(d, l), pad), o), inv);
     const VecF<D> t1 = hn::Mul(hn::Sub(hn::Add(hn::Set(d, h), pad), o), inv);
@@ -153,25 +157,17 @@ HWY_INLINE MaskF<D> BoxReachable(D d, const float lo[3], const float hi[3], cons
   entry = hn::Max(nx, hn::Max(ny, nz));
   const VecF<D> exit = hn::Min(fx, hn::Min(fy, fz));
   const MaskF<D> crosses = hn::And(hn::Le(entry, exit), hn::Ge(exit, hn::Sub(hn::Zero(d), pad)));
-  return hn::And(active, hn::And(crosses, hn::Le(entry, hn::Add(bestT, pad))));
-}
-
-template <class D>
-HWY_INLINE MaskF<D> BoxReachable(D d, const BvhNode& node, const RayX<D>& ray, const Vec3x<D>& inverse, VecF<D> pad,
-                                 VecF<D> bestT, MaskF<D> active) {
-  const float lo[3] = {node.lo.x, node.lo.y, node.lo.z};
-  const float hi[3] = {node.hi.x, node.hi.y, node.hi.z};
-  VecF<D> entry;
-  return BoxReachable(d, lo, hi, ray, inverse, pad, bestT, active, entry);
+  return hn::And(active, hn::And(crosses, hn::Le(entry, hn::Add(best, pad))));
 }
 
 // 1 / d per lane, a zero component made a tiny one of its sign (no 0 * inf).
 template <class D>
-HWY_INLINE Vec3x<D> InverseDirection(D d, const Vec3x<D>& dir) {
+HWY_INLINE Vec3x<D> InverseDirection(D d, const Vec3x<D>& direction) {
   const VecF<D> tiny = hn::Set(d, 1e-30f);
   const auto safe = [&](VecF<D> c) { return hn::IfThenElse(hn::Lt(hn::Abs(c), tiny), hn::CopySign(tiny, c), c); };
   const VecF<D> one = hn::Set(d, 1.0f);
-  return Vec3Of(d, hn::Div(one, safe(Get(dir.x))), hn::Div(one, safe(Get(dir.y))), hn::Div(one, safe(Get(dir.z))));
+  return Vec3Of(d, hn::Div(one, safe(Get(direction.x))), hn::Div(one, safe(Get(direction.y))),
+                hn::Div(one, safe(Get(direction.z))));
 }
 
 // traversalPad() (render/accel/bvh.h) per lane, in the tree's pad model.
@@ -192,9 +188,9 @@ HWY_INLINE VecF<D> TraversalPad(D d, const Bvh& bvh, const Vec3x<D>& origin) {
 // picks the wrong side); each lane ends with the same nearest sphere as
 // brute force.
 template <bool kSphereExit, bool kDiscriminantExit, bool kCount, class D>
-HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX<D>& ray, MaskF<D> active,
+HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& spheres, const RayX<D>& ray, MaskF<D> active,
                                           Tally<kCount> tally) {
-  const Bvh& bvh = *s.bvh;
+  const Bvh& bvh = *spheres.bvh;
   VecF<D> bestT = hn::Set(d, std::numeric_limits<float>::infinity());
   VecF<D> bestIndex = hn::Set(d, -1.0f);
   const Vec3x<D> inverse = InverseDirection(d, ray.direction);
@@ -207,7 +203,10 @@ HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX
   stack[top++] = 0;
   while (top > 0) {
     const BvhNode& node = bvh.nodes[stack[--top]];
-    const MaskF<D> reach = BoxReachable(d, node, ray, inverse, pad, bestT, active);
+    const float lo[3] = {node.lo.x, node.lo.y, node.lo.z};
+    const float hi[3] = {node.hi.x, node.hi.y, node.hi.z};
+    VecF<D> entry;  // unused here: the packet walk orders children by the lanes' summed direction
+    const MaskF<D> reach = BoxReachable(d, lo, hi, ray, inverse, pad, bestT, active, entry);
     if constexpr (kCount) tally.Nodes(1, hn::Lanes(d), hn::CountTrue(d, reach));
     if (hn::AllFalse(d, reach)) continue;
     if (!node.leaf()) {
@@ -219,11 +218,11 @@ HWY_INLINE RaycastHitX<D> NearestHitInBvh(D d, const SphereArrays& s, const RayX
     if constexpr (kCount)
       tally.Spheres(node.count(), node.count() * hn::Lanes(d), node.count() * hn::CountTrue(d, reach));
     for (std::uint32_t k = node.first; k < node.first + node.count(); ++k) {
-      IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, s, static_cast<int>(bvh.order[k]), ray, active, bestT,
-                                                            bestIndex);
+      IntersectSphereIntoBest<kSphereExit, kDiscriminantExit, true>(d, ray, spheres, static_cast<int>(bvh.order[k]),
+                                                                    active, bestT, bestIndex);
     }
   }
-  return HitRecord(d, s, ray, bestT, bestIndex);
+  return HitRecord(d, spheres, ray, bestT, bestIndex);
 }
 
 #include "render/simd/wide_traversal-inl.h"  // NearestHitSingle(), NearestHitHybrid()

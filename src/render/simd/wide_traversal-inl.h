@@ -4,7 +4,7 @@
 // reaches most nodes with few lanes active: masked lanes doing no work.
 // A single ray instead fills the vector with a node's child boxes, or a
 // leaf's spheres. Both give each lane the same nearest sphere as brute
-// force: the sphere test is the packet's lane for lane (IntersectSphere,
+// force: the sphere test is the packet's lane for lane (IntersectSphereIntoBest,
 // the same operations in the same order), the boxes are padded as the
 // packet's (traversalPad), and ties go to the lower index.
 //
@@ -120,7 +120,7 @@ HWY_INLINE void LeafNearest(const WideBvh& w, WideChild leaf, const SingleRayX& 
   const VecF<WideTag> dx = Get(r.direction[0]), dy = Get(r.direction[1]), dz = Get(r.direction[2]);
   for (std::size_t c = 0; c < count; c += n) {
     if constexpr (kCount) tally.Spheres(1, n, std::min(n, count - c));
-    // intersectSphere, lane for lane as IntersectSphere computes it with the spheres' values broadcast.
+    // intersectSphere, lane for lane as IntersectSphereIntoBest computes it with the spheres' values broadcast.
     const VecF<WideTag> ocx = hn::Sub(ox, hn::Load(dw, block.centerX.data() + c));
     const VecF<WideTag> ocy = hn::Sub(oy, hn::Load(dw, block.centerY.data() + c));
     const VecF<WideTag> ocz = hn::Sub(oz, hn::Load(dw, block.centerZ.data() + c));
@@ -274,9 +274,9 @@ HWY_INLINE void PacketLeafNearest(D d, const WideBvh& w, const PacketEntry& e, c
   if constexpr (kCount) tally.Spheres(count, count * hn::Lanes(d), count * std::popcount(e.lanes));
   for (std::uint32_t k = 0; k < count; ++k) {
     const std::int32_t index = w.index[e.to.child.block() * std::size_t{kWideBvhWidth} + k];
-    IntersectSphere<kSphereExit, kDiscriminantExit, true>(d, block.centerX[k], block.centerY[k], block.centerZ[k],
-                                                          block.radiusSquared[k], static_cast<float>(index), ray,
-                                                          reaching, bestT, bestIndex);
+    IntersectSphereIntoBest<kSphereExit, kDiscriminantExit, true>(
+        d, block.centerX[k], block.centerY[k], block.centerZ[k], block.radiusSquared[k], static_cast<float>(index), ray,
+        reaching, bestT, bestIndex);
   }
 }
 
